@@ -1,0 +1,339 @@
+#include "boundary.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+
+#include "straightest.h"
+#include "weights.h"
+
+namespace sdp {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// 3D lengths of the boundary edges b_k -> b_{k+1}, floored so that a zero-length edge cannot
+// put two boundary vertices on one point.
+std::vector<double> boundarySpacing(const Patch& patch) {
+  const auto& loop = patch.boundary_loop;
+  const int n = static_cast<int>(loop.size());
+  std::vector<double> length(n);
+  for (int k = 0; k < n; ++k)
+    length[k] = (patch.position[loop[(k + 1) % n]] - patch.position[loop[k]]).norm();
+  const double mean = std::accumulate(length.begin(), length.end(), 0.0) / n;
+  const double floor = mean > 0 ? 1e-3 * mean : 1.0;
+  for (double& l : length) l = std::max(l, floor);
+  return length;
+}
+
+// Turn angle at b between a -> b and b -> c (positive: left turn).
+double turnAngle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const Eigen::Vector2d u = b - a, v = c - b;
+  return std::atan2(cross2(u, v), u.dot(v));
+}
+
+// Angles that sum to 2 pi with no gap above `cap`: the excess of capped gaps is spread over the
+// others in proportion (a gap of pi or more would leave S outside the polygon).
+std::vector<double> cappedGaps(std::vector<double> gap, double cap) {
+  const int n = static_cast<int>(gap.size());
+  std::vector<char> capped(n, 0);
+  for (int round = 0; round < n; ++round) {
+    double free_sum = 0, capped_sum = 0;
+    for (int k = 0; k < n; ++k) (capped[k] ? capped_sum : free_sum) += gap[k];
+    const double scale = (2 * kPi - capped_sum) / free_sum;
+    bool changed = false;
+    for (int k = 0; k < n; ++k) {
+      if (capped[k]) continue;
+      gap[k] *= scale;
+      if (gap[k] > cap) gap[k] = cap, capped[k] = 1, changed = true;
+    }
+    if (!changed) break;
+  }
+  return gap;
+}
+
+}  // namespace
+
+double polygonArea(const Polygon& polygon) {
+  double twice = 0;
+  const size_t n = polygon.size();
+  for (size_t k = 0; k < n; ++k) twice += cross2(polygon[k], polygon[(k + 1) % n]);
+  return 0.5 * twice;
+}
+
+Polygon circleBoundary(const Patch& patch) {
+  const std::vector<double> length = boundarySpacing(patch);
+  const double total = std::accumulate(length.begin(), length.end(), 0.0);
+  Polygon circle(length.size());
+  double run = 0;
+  for (size_t k = 0; k < length.size(); ++k) {
+    const double phi = 2 * kPi * run / total;
+    circle[k] = {std::cos(phi), std::sin(phi)};
+    run += length[k];
+  }
+  return circle;
+}
+
+Polygon squareBoundary(const Patch& patch) {
+  const std::vector<double> length = boundarySpacing(patch);
+  const int n = static_cast<int>(length.size());
+  if (n < 4) return {};
+  std::vector<double> arc(n + 1, 0.0);
+  for (int k = 0; k < n; ++k) arc[k + 1] = arc[k] + length[k];
+  const double total = arc[n];
+  // Corner q sits at the vertex nearest to q/4 of the perimeter, strictly after corner q-1 and
+  // leaving room for the corners still to come.
+  int corner[5];
+  corner[0] = 0;
+  for (int q = 1; q < 4; ++q) {
+    const double target = total * q / 4;
+    int best = corner[q - 1] + 1;
+    for (int k = best; k <= n - (4 - q); ++k)
+      if (std::abs(arc[k] - target) < std::abs(arc[best] - target)) best = k;
+    corner[q] = best;
+  }
+  corner[4] = n;
+  const Eigen::Vector2d square[5] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+  Polygon result(n);
+  for (int q = 0; q < 4; ++q) {
+    const double side = arc[corner[q + 1]] - arc[corner[q]];
+    for (int k = corner[q]; k < corner[q + 1]; ++k) {
+      const double t = (arc[k] - arc[corner[q]]) / side;
+      result[k] = (1 - t) * square[q] + t * square[q + 1];
+    }
+  }
+  return result;
+}
+
+std::vector<double> edgeGraphDistances(const Patch& patch, const std::vector<int>& sources) {
+  std::vector<double> dist(patch.vertexCount(), std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (int s : sources) {
+    dist[s] = 0;
+    queue.push({0.0, s});
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[v]) continue;
+    for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) {
+      const int w = patch.ring_vertex[k];
+      const double nd = d + (patch.position[w] - patch.position[v]).norm();
+      if (nd < dist[w]) dist[w] = nd, queue.push({nd, w});
+    }
+  }
+  return dist;
+}
+
+int chooseSourceVertex(const Patch& patch, SourceRule rule) {
+  const int n = patch.vertexCount();
+  int best = -1;
+  if (rule == SourceRule::FarthestFromBoundary) {
+    const std::vector<double> dist = edgeGraphDistances(patch, patch.boundary_loop);
+    for (int v = 0; v < n; ++v)
+      if (!patch.on_boundary[v] && (best < 0 || dist[v] > dist[best])) best = v;
+  } else {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int b : patch.boundary_loop) centroid += patch.position[b];
+    centroid /= static_cast<double>(patch.boundary_loop.size());
+    double best_d = 0;
+    for (int v = 0; v < n; ++v) {
+      if (patch.on_boundary[v]) continue;
+      const double d = (patch.position[v] - centroid).squaredNorm();
+      if (best < 0 || d < best_d) best = v, best_d = d;
+    }
+  }
+  return best;
+}
+
+double planeWalkDistance(const Patch& patch, int source, const Eigen::Vector3d& normal, int b) {
+  const auto& P = patch.position;
+  const Eigen::Vector3d S = P[source], B = P[b];
+  const Eigen::Vector3d e = B - S;
+  Eigen::Vector3d t = e - e.dot(normal) * normal;
+  if (!(t.norm() > 1e-12 * e.norm())) return -1;
+  t.normalize();
+  const Eigen::Vector3d plane_normal = t.cross(normal).normalized();
+  auto height = [&](int v) { return plane_normal.dot(P[v] - S); };
+  // Symbolic perturbation: a vertex exactly on the plane counts as above it, so the walk
+  // always crosses edges, never runs through vertices.
+  auto above = [&](int v) { return height(v) >= 0; };
+  auto crossing = [&](int u, int w) {
+    const double hu = height(u), hw = height(w);
+    return Eigen::Vector3d(P[u] + hu / (hu - hw) * (P[w] - P[u]));
+  };
+
+  // First face: the ring face of S whose opposite edge the plane crosses towards b.
+  int face = -1, u = -1, w = -1;
+  Eigen::Vector3d x;
+  double best_cosine = -2;
+  for (int k = patch.ring_begin[source]; k < patch.ring_begin[source + 1]; ++k) {
+    const int f = patch.ring_face[k];
+    if (f < 0) continue;
+    const int a = patch.ring_vertex[k];
+    const int c =
+        patch.ring_vertex[k + 1 < patch.ring_begin[source + 1] ? k + 1 : patch.ring_begin[source]];
+    if (above(a) == above(c)) continue;
+    const Eigen::Vector3d y = crossing(a, c);
+    const double len = (y - S).norm();
+    if (!(len > 0)) continue;
+    const double cosine = (y - S).dot(t) / len;
+    if (cosine > best_cosine) best_cosine = cosine, face = f, u = a, w = c, x = y;
+  }
+  if (face < 0 || best_cosine <= 0) return -1;
+  double length = (x - S).norm();
+  for (int step = 0; step <= patch.faceCount(); ++step) {
+    if (u == b || w == b) return length + (B - x).norm();  // the plane contains b: arrived
+    const auto& tri = patch.face[face];
+    int slot = 0;
+    while (!((tri[slot] == u && tri[(slot + 1) % 3] == w) ||
+             (tri[slot] == w && tri[(slot + 1) % 3] == u)))
+      ++slot;
+    const int next = patch.face_across[face][slot];
+    if (next < 0) return -1;  // left the patch elsewhere than at b
+    const auto& nt = patch.face[next];
+    const int z = nt[0] != u && nt[0] != w ? nt[0] : (nt[1] != u && nt[1] != w ? nt[1] : nt[2]);
+    if (above(z) == above(u))
+      u = z;
+    else
+      w = z;
+    const Eigen::Vector3d y = crossing(u, w);
+    length += (y - x).norm();
+    x = y;
+    face = next;
+  }
+  return -1;
+}
+
+Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& spacing) {
+  const int n = static_cast<int>(polygon.size());
+  // Andrew's monotone chain; collinear points are not hull vertices.
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return polygon[a].x() != polygon[b].x() ? polygon[a].x() < polygon[b].x()
+                                            : polygon[a].y() < polygon[b].y();
+  });
+  std::vector<int> hull;
+  for (int pass = 0; pass < 2; ++pass) {
+    const size_t base = hull.size();
+    for (int i = 0; i < n; ++i) {
+      const int k = pass == 0 ? order[i] : order[n - 1 - i];
+      while (hull.size() >= base + 2 &&
+             cross2(polygon[hull[hull.size() - 1]] - polygon[hull[hull.size() - 2]],
+                    polygon[k] - polygon[hull[hull.size() - 1]]) <= 0)
+        hull.pop_back();
+      hull.push_back(k);
+    }
+    hull.pop_back();
+  }
+  std::vector<char> on_hull(n, 0);
+  for (int k : hull) on_hull[k] = 1;
+  // Hull vertices in polygon order (for a simple polygon this is also the hull's order).
+  std::vector<int> corners;
+  for (int k = 0; k < n; ++k)
+    if (on_hull[k]) corners.push_back(k);
+  // Corners that barely turn (rounding noise on a straight side) would get a bulge too small
+  // to survive rounding: treat them as side points. Dropping a corner keeps the hull convex.
+  constexpr double kMinTurn = 1e-6;
+  std::vector<double> turn;
+  for (bool dropped = true; dropped;) {
+    dropped = false;
+    const int m = static_cast<int>(corners.size());
+    if (m < 3) return {};
+    turn.assign(m, 0);
+    for (int c = 0; c < m; ++c) {
+      turn[c] = turnAngle(polygon[corners[(c + m - 1) % m]], polygon[corners[c]],
+                          polygon[corners[(c + 1) % m]]);
+      if (!(turn[c] > -kMinTurn)) return {};  // the input was not a simple star-shaped polygon
+    }
+    for (int c = 0; c < m; ++c)
+      if (turn[c] < kMinTurn) {
+        corners.erase(corners.begin() + c);
+        dropped = true;
+        break;
+      }
+  }
+  const int m = static_cast<int>(corners.size());
+  Polygon result(polygon);
+  for (int c = 0; c < m; ++c) {
+    const int from = corners[c], to = corners[(c + 1) % m];
+    const Eigen::Vector2d A = polygon[from], B = polygon[to];
+    const Eigen::Vector2d ab = B - A;
+    const double L = ab.norm();
+    const Eigen::Vector2d outward(ab.y() / L, -ab.x() / L);
+    // A parabolic bulge of height eps * L: its end tangents turn by atan(4 eps), kept below a
+    // third of the hull's turn at either end so the corners stay strictly convex. It only has
+    // to make straight runs strictly convex, so it stays tiny (1e-4 of the side at most).
+    const double eps = std::min(1e-4, std::tan(std::min(turn[c], turn[(c + 1) % m]) / 3) / 4);
+    double total = 0;
+    for (int k = from; k != to; k = (k + 1) % n) total += spacing[k];
+    double run = spacing[from];
+    for (int k = (from + 1) % n; k != to; k = (k + 1) % n) {
+      const double t = run / total;
+      result[k] = A + t * ab + eps * L * 4 * t * (1 - t) * outward;
+      run += spacing[k];
+    }
+  }
+  return result;
+}
+
+Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts) {
+  const auto& loop = patch.boundary_loop;
+  const int n = static_cast<int>(loop.size());
+  Ring ring;
+  gatherRing(patch, source, ring);
+  const Eigen::Vector3d normal = baseNormal(ring);
+  const Eigen::Vector3d S = patch.position[source];
+
+  // Polar angles: the 3D angle between consecutive virtual edges, scaled to sum to 2 pi.
+  std::vector<double> gap(n);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d a = patch.position[loop[k]] - S;
+    const Eigen::Vector3d b = patch.position[loop[(k + 1) % n]] - S;
+    gap[k] = std::max(std::atan2(a.cross(b).norm(), a.dot(b)), 1e-9);
+  }
+  gap = cappedGaps(gap, 2 * kPi / 3);
+
+  // Radii: straightest distances, with the edge-graph distance as fallback and sanity bound.
+  const std::vector<double> graph = edgeGraphDistances(patch, {source});
+  std::vector<double> radius(n);
+  for (int k = 0; k < n; ++k) {
+    const double walked =
+        normal.squaredNorm() > 0 ? planeWalkDistance(patch, source, normal, loop[k]) : -1;
+    if (walked <= 0) {
+      ++counts.walk_failures;
+      radius[k] = graph[loop[k]];
+    } else if (walked > 1.5 * graph[loop[k]]) {
+      ++counts.walk_detours;  // the plane wandered far from the shortest way
+      radius[k] = graph[loop[k]];
+    } else {
+      radius[k] = walked;
+    }
+  }
+  Polygon polar(n);
+  double phi = 0;
+  for (int k = 0; k < n; ++k) {
+    polar[k] = radius[k] * Eigen::Vector2d(std::cos(phi), std::sin(phi));
+    phi += gap[k];
+  }
+  Polygon convex = makeStrictlyConvex(polar, boundarySpacing(patch));
+  if (convex.empty()) return {};
+  double area3d = 0;
+  for (const auto& t : patch.face)
+    area3d += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
+                        .cross(patch.position[t[2]] - patch.position[t[0]])
+                        .norm();
+  const double scale = std::sqrt(area3d / polygonArea(convex));
+  for (auto& q : convex) q *= scale;
+  return convex;
+}
+
+}  // namespace sdp

@@ -1,0 +1,67 @@
+#include "metrics.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
+
+namespace sdp {
+
+FaceStretch faceStretch(const Eigen::Vector3d q[3], const Eigen::Vector2d p[3]) {
+  FaceStretch r;
+  const double s1 = p[0].x(), t1 = p[0].y(), s2 = p[1].x(), t2 = p[1].y(), s3 = p[2].x(),
+               t3 = p[2].y();
+  r.area2d = 0.5 * ((s2 - s1) * (t3 - t1) - (s3 - s1) * (t2 - t1));
+  r.area3d = 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).norm();
+  if (!(r.area2d > 0)) {
+    r.l2 = r.linf = std::numeric_limits<double>::infinity();
+    return r;
+  }
+  const Eigen::Vector3d Ss =
+      (q[0] * (t2 - t3) + q[1] * (t3 - t1) + q[2] * (t1 - t2)) / (2 * r.area2d);
+  const Eigen::Vector3d St =
+      (q[0] * (s3 - s2) + q[1] * (s1 - s3) + q[2] * (s2 - s1)) / (2 * r.area2d);
+  const double a = Ss.dot(Ss), b = Ss.dot(St), c = St.dot(St);
+  r.l2 = std::sqrt((a + c) / 2);
+  r.linf = std::sqrt(((a + c) + std::sqrt((a - c) * (a - c) + 4 * b * b)) / 2);
+  return r;
+}
+
+StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
+  const int faces = patch.faceCount();
+  StretchMetrics m;
+  m.face_l2.resize(faces);
+  std::vector<FaceStretch> stretch(faces);
+  double area2d = 0, area3d = 0, weighted = 0, worst = 0;
+  for (int f = 0; f < faces; ++f) {
+    const auto& t = patch.face[f];
+    const Eigen::Vector3d q[3] = {patch.position[t[0]], patch.position[t[1]], patch.position[t[2]]};
+    const Eigen::Vector2d p[3] = {uv[t[0]], uv[t[1]], uv[t[2]]};
+    stretch[f] = faceStretch(q, p);
+    area2d += stretch[f].area2d;
+    area3d += stretch[f].area3d;
+  }
+  const double tiny = 1e-14 * std::abs(area2d);
+  for (int f = 0; f < faces; ++f) {
+    if (!(stretch[f].area2d > tiny)) ++m.flipped_faces;
+    weighted += stretch[f].l2 * stretch[f].l2 * stretch[f].area3d;
+    worst = std::max(worst, stretch[f].linf);
+  }
+  // Stretch scales with 1/size of the UV layout; this factor makes 1.0 the isometric optimum.
+  const double normalize = std::sqrt(std::abs(area2d) / area3d);
+  m.l2 = std::sqrt(weighted / area3d) * normalize;
+  m.linf = worst * normalize;
+  for (int f = 0; f < faces; ++f) m.face_l2[f] = stretch[f].l2 * normalize;
+
+  std::vector<double> vertex_sum(patch.vertexCount(), 0.0), vertex_area(patch.vertexCount(), 0.0);
+  for (int f = 0; f < faces; ++f)
+    for (int v : patch.face[f]) {
+      vertex_sum[v] += m.face_l2[f] * m.face_l2[f] * stretch[f].area3d;
+      vertex_area[v] += stretch[f].area3d;
+    }
+  m.vertex_l2.resize(patch.vertexCount());
+  for (int v = 0; v < patch.vertexCount(); ++v)
+    m.vertex_l2[v] = vertex_area[v] > 0 ? std::sqrt(vertex_sum[v] / vertex_area[v]) : 1.0;
+  return m;
+}
+
+}  // namespace sdp

@@ -1,0 +1,40 @@
+// What the user chooses: SPEC.md §2 (weights), §3 (boundary), §4 (refinement), §6 (names).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace sdp {
+
+enum class WeightScheme { Straightest, Ltd, Floater, MeanValue, Uniform };
+enum class BoundaryShape { Measured, Circle, Square };
+// How the source vertex S of the measured boundary is chosen when the user gives none.
+enum class SourceRule { FarthestFromBoundary, NearestBoundaryCentroid };
+
+constexpr int kWeightSchemeCount = 5;
+constexpr int kBoundaryShapeCount = 3;
+
+// CLI / report names ("straightest", "ltd", ...), in SPEC order.
+const char* weightSchemeName(WeightScheme w);
+const char* boundaryShapeName(BoundaryShape b);
+const char* sourceRuleName(SourceRule r);
+std::optional<WeightScheme> parseWeightScheme(const std::string& name);
+std::optional<BoundaryShape> parseBoundaryShape(const std::string& name);
+std::optional<SourceRule> parseSourceRule(const std::string& name);
+
+// Called with a stage name and a percentage (0..100) of the whole run; returning false cancels
+// the run (the core then throws ParameterizationError("cancelled")).
+using ProgressCallback = std::function<bool(const char* stage, int percent)>;
+
+struct Options {
+  WeightScheme weights = WeightScheme::Straightest;
+  BoundaryShape boundary = BoundaryShape::Measured;
+  int source_vertex = -1;  // -1: automatic (source_rule); else an index into the input vertices
+  SourceRule source_rule = SourceRule::FarthestFromBoundary;
+  int stretch_iterations = 0;     // 0: the paper's linear method
+  double stretch_exponent = 1.0;  // eta of Yoshizawa-Belyaev-Seidel reweighting
+  ProgressCallback progress;
+};
+
+}  // namespace sdp

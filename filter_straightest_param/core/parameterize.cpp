@@ -1,0 +1,234 @@
+#include "parameterize.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "boundary.h"
+#include "metrics.h"
+#include "patch.h"
+#include "solve.h"
+#include "weights.h"
+
+namespace sdp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Accumulates wall time per stage (a stage may run again after a fallback) and reports
+// progress; a cancelled run stops at the next stage boundary.
+class StageClock {
+ public:
+  StageClock(Report& report, const ProgressCallback& progress)
+      : report_(report), progress_(progress) {}
+  void begin(const char* stage, int percent) {
+    if (progress_ && !progress_(stage, percent))
+      throw ParameterizationError("cancelled by the user");
+    stage_ = stage;
+    start_ = Clock::now();
+  }
+  void end() {
+    const double s = std::chrono::duration<double>(Clock::now() - start_).count();
+    for (auto& entry : report_.stage_seconds)
+      if (entry.first == stage_) {
+        entry.second += s;
+        return;
+      }
+    report_.stage_seconds.emplace_back(stage_, s);
+  }
+
+ private:
+  Report& report_;
+  const ProgressCallback& progress_;
+  std::string stage_;
+  Clock::time_point start_;
+};
+
+// Validates a user-given source vertex; returns its local index (or -1 when none was given).
+int userSource(const Patch& patch, int input_vertices, int source, bool needs_interior) {
+  if (source < 0) return -1;
+  const std::string name = "source vertex " + std::to_string(source);
+  if (source >= input_vertices)
+    throw ParameterizationError(name + " is out of range (the mesh has " +
+                                std::to_string(input_vertices) + " vertices)");
+  const int local = patch.local_vertex[source];
+  if (local < 0) throw ParameterizationError(name + " is not used by any face");
+  if (needs_interior && patch.on_boundary[local])
+    throw ParameterizationError(
+        name + " is on the boundary; the measured boundary needs an interior vertex");
+  return local;
+}
+
+// Yoshizawa-Belyaev-Seidel: damp the pull of neighbours that are stretched, a_ij / sigma_j^eta,
+// then renormalize each row. Weights stay positive, so the map stays one-to-one.
+void reweightByStretch(const Patch& patch, const std::vector<double>& vertex_l2, double eta,
+                       std::vector<double>& weights) {
+  for (int v = 0; v < patch.vertexCount(); ++v) {
+    if (patch.on_boundary[v]) continue;
+    double sum = 0;
+    for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) {
+      const double sigma = std::max(vertex_l2[patch.ring_vertex[k]], 1e-6);
+      weights[k] /= std::pow(sigma, eta);
+      sum += weights[k];
+    }
+    for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) weights[k] /= sum;
+  }
+}
+
+}  // namespace
+
+Result parameterize(const Positions& V, const Triangles& F, const Options& options) {
+  const auto run_start = Clock::now();
+  if (options.stretch_iterations < 0)
+    throw ParameterizationError("stretch iterations must be 0 or more");
+  Result result;
+  Report& report = result.report;
+  report.weights = weightSchemeName(options.weights);
+  report.boundary = boundaryShapeName(options.boundary);
+  StageClock clock(report, options.progress);
+
+  clock.begin("topology", 0);
+  const Patch patch = buildPatch(V, F);
+  report.vertices = patch.vertexCount();
+  report.faces = patch.faceCount();
+  report.unreferenced_vertices = static_cast<int>(V.rows()) - patch.vertexCount();
+  BoundaryShape shape = options.boundary;
+  int source = userSource(patch, static_cast<int>(V.rows()), options.source_vertex,
+                          shape == BoundaryShape::Measured);
+  if (shape == BoundaryShape::Measured && source < 0)
+    source = chooseSourceVertex(patch, options.source_rule);
+  clock.end();
+
+  clock.begin("weights", 10);
+  WeightCounts weight_counts;
+  std::vector<double> weights = computeWeights(patch, options.weights, weight_counts);
+  clock.end();
+
+  auto fallBackToCircle = [&](const std::string& why) {
+    report.warnings.push_back(why + "; used the circle boundary instead");
+    ++report.boundary_fallbacks;
+    shape = BoundaryShape::Circle;
+  };
+  clock.begin("boundary", 30);
+  Polygon boundary;
+  MeasuredCounts measured_counts;
+  if (shape == BoundaryShape::Measured) {
+    if (source < 0) {
+      fallBackToCircle("the patch has no interior vertex to measure the boundary from");
+    } else {
+      boundary = measuredBoundary(patch, source, measured_counts);
+      const int failed = measured_counts.walk_failures + measured_counts.walk_detours;
+      const int boundary_vertices = static_cast<int>(patch.boundary_loop.size());
+      if (boundary.empty()) {
+        fallBackToCircle("the measured boundary could not be made convex");
+      } else if (4 * failed > boundary_vertices) {
+        // Most cutting planes never reached their boundary vertex (a strongly curved patch seen
+        // from S): the polygon would be measured mostly by another rule, so it is not trusted.
+        fallBackToCircle("the straightest walks from the source missed " + std::to_string(failed) +
+                         " of " + std::to_string(boundary_vertices) + " boundary vertices");
+      }
+    }
+  } else if (shape == BoundaryShape::Square) {
+    boundary = squareBoundary(patch);
+    if (boundary.empty()) fallBackToCircle("a square boundary needs at least 4 boundary vertices");
+  }
+  if (shape == BoundaryShape::Circle) boundary = circleBoundary(patch);
+  clock.end();
+
+  clock.begin("solve", 40);
+  InteriorSolver solver(patch);
+  LocalUVs uv = solver.solve(weights, boundary);
+  clock.end();
+  clock.begin("metrics", 80);
+  StretchMetrics metrics = stretchMetrics(patch, uv);
+  clock.end();
+
+  // Never return a folded map: first the circle (strictly convex in exact arithmetic), then
+  // uniform weights (Tutte, the best-conditioned system), else refuse with the reason.
+  if (metrics.flipped_faces > 0 && shape != BoundaryShape::Circle) {
+    fallBackToCircle("the " + std::string(boundaryShapeName(shape)) + " boundary gave " +
+                     std::to_string(metrics.flipped_faces) + " flipped or degenerate faces");
+    clock.begin("boundary", 40);
+    boundary = circleBoundary(patch);
+    clock.end();
+    clock.begin("solve", 40);
+    uv = solver.solve(weights, boundary);
+    clock.end();
+    clock.begin("metrics", 80);
+    metrics = stretchMetrics(patch, uv);
+    clock.end();
+  }
+  if (metrics.flipped_faces > 0 && options.weights != WeightScheme::Uniform) {
+    report.warnings.push_back(std::to_string(metrics.flipped_faces) + " faces folded with " +
+                              report.weights +
+                              " weights (near-degenerate triangles); used uniform weights instead");
+    ++report.boundary_fallbacks;
+    WeightCounts ignored;
+    weights = computeWeights(patch, WeightScheme::Uniform, ignored);
+    clock.begin("solve", 40);
+    uv = solver.solve(weights, boundary);
+    clock.end();
+    clock.begin("metrics", 80);
+    metrics = stretchMetrics(patch, uv);
+    clock.end();
+  }
+  if (metrics.flipped_faces > 0)
+    throw ParameterizationError("no one-to-one map: " + std::to_string(metrics.flipped_faces) +
+                                " faces stay flipped or degenerate even with a circle boundary and "
+                                "uniform weights (the mesh has near-degenerate triangles)");
+  report.l2_stretch_linear = metrics.l2;
+
+  if (options.stretch_iterations > 0) {
+    clock.begin("refine", 85);
+    std::vector<double> refined = weights;
+    StretchMetrics current = metrics;
+    for (int it = 1; it <= options.stretch_iterations; ++it) {
+      if (options.progress &&
+          !options.progress("refine", 85 + 10 * it / options.stretch_iterations))
+        throw ParameterizationError("cancelled by the user");
+      reweightByStretch(patch, current.vertex_l2, options.stretch_exponent, refined);
+      LocalUVs candidate = solver.solve(refined, boundary);
+      current = stretchMetrics(patch, candidate);
+      report.stretch_iterations_run = it;
+      if (current.flipped_faces > 0) break;  // numerically folded: keep the best so far
+      if (current.l2 < metrics.l2) {
+        metrics = current;
+        uv.swap(candidate);
+        report.best_iteration = it;
+      }
+    }
+    clock.end();
+  }
+
+  report.boundary_used = boundaryShapeName(shape);
+  report.source_vertex = shape == BoundaryShape::Measured ? patch.input_vertex[source] : -1;
+  report.l2_stretch = metrics.l2;
+  report.linf_stretch = metrics.linf;
+  report.flipped_faces = metrics.flipped_faces;
+  report.straightest_to_ltd = weight_counts.straightest_to_ltd;
+  report.degenerate_rings = weight_counts.degenerate_rings;
+  report.walk_fallbacks = measured_counts.walk_failures + measured_counts.walk_detours;
+  report.fallbacks = report.straightest_to_ltd + report.degenerate_rings + report.walk_fallbacks +
+                     report.boundary_fallbacks;
+  if (report.straightest_to_ltd > 0)
+    report.warnings.push_back(std::to_string(report.straightest_to_ltd) +
+                              " neighbours used the LTD direction (their cutting plane crossed no "
+                              "far-side edge)");
+  if (report.degenerate_rings > 0)
+    report.warnings.push_back(std::to_string(report.degenerate_rings) +
+                              " vertices with a degenerate 1-ring used uniform weights");
+  if (report.walk_fallbacks > 0)
+    report.warnings.push_back(std::to_string(report.walk_fallbacks) +
+                              " boundary distances used the edge-graph distance (plane walk failed "
+                              "or wandered)");
+
+  result.uv = UVs::Zero(V.rows(), 2);
+  for (int v = 0; v < patch.vertexCount(); ++v)
+    result.uv.row(patch.input_vertex[v]) = uv[v].transpose();
+  result.face_stretch = std::move(metrics.face_l2);
+  report.seconds = std::chrono::duration<double>(Clock::now() - run_start).count();
+  if (options.progress) options.progress("done", 100);
+  return result;
+}
+
+}  // namespace sdp

@@ -1,0 +1,28 @@
+// The one entry point of the core: indexed triangles in, UVs + report out (SPEC.md §1).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "error.h"
+#include "options.h"
+#include "report.h"
+
+namespace sdp {
+
+using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using Triangles = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using UVs = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+struct Result {
+  UVs uv;                            // one row per input vertex (unreferenced vertices: 0, 0)
+  std::vector<double> face_stretch;  // per input face: normalized L2 stretch (1 = isometric)
+  Report report;
+};
+
+// Flattens a disk-shaped patch. Throws ParameterizationError with a one-line reason when the
+// input is not a valid patch, a coordinate is not finite, or no one-to-one map could be made:
+// a returned Result is always one-to-one (report.flipped_faces == 0).
+Result parameterize(const Positions& V, const Triangles& F, const Options& options = {});
+
+}  // namespace sdp

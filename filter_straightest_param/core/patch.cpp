@@ -1,0 +1,228 @@
+#include "patch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "error.h"
+
+namespace sdp {
+namespace {
+
+[[noreturn]] void fail(const std::string& reason) {
+  throw ParameterizationError(reason);
+}
+
+struct HalfEdge {
+  int target;
+  int face;
+};
+
+}  // namespace
+
+Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& V,
+                 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& F) {
+  const int input_vertices = static_cast<int>(V.rows());
+  const int faces = static_cast<int>(F.rows());
+  if (faces == 0) fail("the mesh has no faces");
+
+  Patch p;
+  p.local_vertex.assign(input_vertices, -1);
+  p.face.resize(faces);
+  for (int f = 0; f < faces; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = F(f, c);
+      if (v < 0 || v >= input_vertices)
+        fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+             ", but the mesh has " + std::to_string(input_vertices) + " vertices");
+    }
+    if (F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 0) == F(f, 2))
+      fail("face " + std::to_string(f) + " uses the same vertex twice (a degenerate face)");
+  }
+  // Compact to referenced vertices, keeping input order so results map back by index.
+  for (int f = 0; f < faces; ++f)
+    for (int c = 0; c < 3; ++c) p.local_vertex[F(f, c)] = 0;
+  for (int v = 0; v < input_vertices; ++v) {
+    if (p.local_vertex[v] < 0) continue;
+    if (!std::isfinite(V(v, 0)) || !std::isfinite(V(v, 1)) || !std::isfinite(V(v, 2)))
+      fail("vertex " + std::to_string(v) + " has a non-finite coordinate (NaN or infinity)");
+    p.local_vertex[v] = static_cast<int>(p.input_vertex.size());
+    p.input_vertex.push_back(v);
+    p.position.emplace_back(V(v, 0), V(v, 1), V(v, 2));
+  }
+  for (int f = 0; f < faces; ++f)
+    for (int c = 0; c < 3; ++c) p.face[f][c] = p.local_vertex[F(f, c)];
+  const int n = p.vertexCount();
+  // Centre the coordinates: a scan placed far from the origin would otherwise lose digits in
+  // every difference (the results are translation-invariant anyway).
+  {
+    Eigen::Vector3d low = p.position[0], high = p.position[0];
+    for (const auto& q : p.position) low = low.cwiseMin(q), high = high.cwiseMax(q);
+    const Eigen::Vector3d centre = 0.5 * (low + high);
+    for (auto& q : p.position) q -= centre;
+  }
+  auto inputName = [&](int local) { return std::to_string(p.input_vertex[local]); };
+
+  // Outgoing half-edges per vertex, sorted by target so twins are found by binary search and
+  // repeated edges sit side by side.
+  std::vector<int> out_begin(n + 1, 0);
+  for (const auto& t : p.face)
+    for (int c = 0; c < 3; ++c) ++out_begin[t[c] + 1];
+  for (int v = 0; v < n; ++v) out_begin[v + 1] += out_begin[v];
+  std::vector<HalfEdge> out(out_begin[n]);
+  {
+    std::vector<int> fill(out_begin.begin(), out_begin.end() - 1);
+    for (int f = 0; f < faces; ++f)
+      for (int c = 0; c < 3; ++c) out[fill[p.face[f][c]]++] = {p.face[f][(c + 1) % 3], f};
+  }
+  auto findOut = [&](int from, int to) -> const HalfEdge* {
+    auto first = out.begin() + out_begin[from], last = out.begin() + out_begin[from + 1];
+    auto it = std::lower_bound(first, last, to,
+                               [](const HalfEdge& h, int target) { return h.target < target; });
+    return (it != last && it->target == to) ? &*it : nullptr;
+  };
+  for (int v = 0; v < n; ++v) {
+    auto first = out.begin() + out_begin[v], last = out.begin() + out_begin[v + 1];
+    std::sort(first, last, [](const HalfEdge& a, const HalfEdge& b) {
+      return a.target != b.target ? a.target < b.target : a.face < b.face;
+    });
+  }
+  for (int v = 0; v < n; ++v) {
+    for (int k = out_begin[v] + 1; k < out_begin[v + 1]; ++k) {
+      if (out[k].target != out[k - 1].target) continue;
+      const int w = out[k].target, f1 = out[k - 1].face, f2 = out[k].face;
+      auto sorted = [&](int f) {
+        auto t = p.face[f];
+        std::sort(t.begin(), t.end());
+        return t;
+      };
+      const std::string edge = "(" + inputName(v) + ", " + inputName(w) + ")";
+      if (sorted(f1) == sorted(f2))
+        fail("faces " + std::to_string(f1) + " and " + std::to_string(f2) + " are duplicates");
+      if (findOut(w, v))
+        fail("edge " + edge + " is shared by more than two faces (a non-manifold edge)");
+      fail("faces " + std::to_string(f1) + " and " + std::to_string(f2) +
+           " are oriented inconsistently at edge " + edge);
+    }
+  }
+
+  p.face_across.resize(faces);
+  int boundary_half_edges = 0;
+  for (int f = 0; f < faces; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const HalfEdge* twin = findOut(p.face[f][(c + 1) % 3], p.face[f][c]);
+      p.face_across[f][c] = twin ? twin->face : -1;
+      boundary_half_edges += twin ? 0 : 1;
+    }
+  }
+
+  // One connected piece (through edges).
+  {
+    std::vector<char> seen(faces, 0);
+    std::vector<int> stack;
+    int components = 0;
+    for (int start = 0; start < faces; ++start) {
+      if (seen[start]) continue;
+      ++components;
+      seen[start] = 1;
+      stack.push_back(start);
+      while (!stack.empty()) {
+        const int f = stack.back();
+        stack.pop_back();
+        for (int g : p.face_across[f])
+          if (g >= 0 && !seen[g]) seen[g] = 1, stack.push_back(g);
+      }
+    }
+    if (components > 1)
+      fail("the mesh has " + std::to_string(components) +
+           " connected components; a patch must be one piece (select one component)");
+  }
+
+  // Boundary loops: every boundary vertex has exactly one outgoing boundary edge.
+  std::vector<int> boundary_next(n, -1);
+  p.on_boundary.assign(n, 0);
+  for (int f = 0; f < faces; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      if (p.face_across[f][c] >= 0) continue;
+      const int a = p.face[f][c], b = p.face[f][(c + 1) % 3];
+      if (boundary_next[a] >= 0)
+        fail("vertex " + inputName(a) +
+             " is non-manifold (two parts of the surface meet only at this vertex)");
+      boundary_next[a] = b;
+      p.on_boundary[a] = 1;
+    }
+  }
+  if (boundary_half_edges == 0)
+    fail("the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first");
+  int loops = 0;
+  {
+    std::vector<char> visited(n, 0);
+    std::vector<int> longest;
+    for (int start = 0; start < n; ++start) {
+      if (!p.on_boundary[start] || visited[start]) continue;
+      ++loops;
+      std::vector<int> loop;
+      for (int v = start; !visited[v]; v = boundary_next[v]) {
+        visited[v] = 1;
+        loop.push_back(v);
+      }
+      if (loop.size() > longest.size()) longest.swap(loop);
+    }
+    p.boundary_loop.swap(longest);
+  }
+  if (loops > 1)
+    fail("the patch has " + std::to_string(loops) +
+         " boundary loops (holes); only disk-shaped patches with one boundary loop are supported");
+
+  // Ordered 1-rings, walking counter-clockwise from the boundary edge (or any edge).
+  p.ring_begin.assign(n + 1, 0);
+  for (int v = 0; v < n; ++v)
+    p.ring_begin[v + 1] = p.ring_begin[v] + (out_begin[v + 1] - out_begin[v]) + p.on_boundary[v];
+  p.ring_vertex.resize(p.ring_begin[n]);
+  p.ring_face.resize(p.ring_begin[n]);
+  auto cornerOf = [&](int f, int v) { return p.face[f][0] == v ? 0 : (p.face[f][1] == v ? 1 : 2); };
+  for (int v = 0; v < n; ++v) {
+    int f = out[out_begin[v]].face;
+    if (p.on_boundary[v]) {
+      const HalfEdge* boundary_out = findOut(v, boundary_next[v]);
+      f = boundary_out->face;
+    }
+    const int start_face = f;
+    int k = p.ring_begin[v];
+    const int end = p.ring_begin[v + 1];
+    bool closed = false;
+    while (k < end) {
+      const int c = cornerOf(f, v);
+      p.ring_vertex[k] = p.face[f][(c + 1) % 3];
+      p.ring_face[k] = f;
+      ++k;
+      const int next = p.face_across[f][(c + 2) % 3];
+      if (next < 0) {  // reached the boundary: the last neighbour closes the open fan
+        if (k < end) {
+          p.ring_vertex[k] = p.face[f][(c + 2) % 3];
+          p.ring_face[k] = -1;
+          ++k;
+        }
+        break;
+      }
+      if (next == start_face) {
+        closed = true;
+        break;
+      }
+      f = next;
+    }
+    const bool complete = (k == end) && (p.on_boundary[v] ? !closed : closed);
+    if (!complete)
+      fail("vertex " + inputName(v) +
+           " is non-manifold (its faces do not form a single fan around it)");
+  }
+
+  const long long edges = (3LL * faces + boundary_half_edges) / 2;
+  const long long euler = static_cast<long long>(n) - edges + faces;
+  if (euler != 1)
+    fail("the patch has Euler characteristic " + std::to_string(euler) + " (genus " +
+         std::to_string((1 - euler) / 2) + "); it must be a topological disk (characteristic 1)");
+  return p;
+}
+
+}  // namespace sdp

@@ -1,0 +1,48 @@
+// The patch: referenced vertices, triangles, and the derived topology every later stage needs
+// (ordered 1-rings, the boundary loop, face adjacency for plane walks). Building it is the
+// topology check of SPEC §1: one component, edge- and vertex-manifold, one boundary loop, χ = 1.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+namespace sdp {
+
+struct Patch {
+  // Compacted: only vertices referenced by a face, in input order.
+  std::vector<Eigen::Vector3d> position;
+  std::vector<std::array<int, 3>> face;  // local vertex indices, input face order
+  std::vector<int> input_vertex;         // local -> input vertex index
+  std::vector<int> local_vertex;         // input -> local vertex index, -1 if unreferenced
+
+  // Ordered 1-rings in CSR form. For vertex v the neighbours ring_vertex[ring_begin[v] ..
+  // ring_begin[v+1]) go counter-clockwise; ring_face[k] is the face (v, ring_vertex[k],
+  // ring_vertex[k+1]) (cyclic for interior vertices; a boundary vertex has one face fewer than
+  // neighbours and its ring_face entry at the last neighbour is -1).
+  std::vector<int> ring_begin;
+  std::vector<int> ring_vertex;
+  std::vector<int> ring_face;
+  std::vector<char> on_boundary;
+
+  // face_across[f][c]: the face across the edge face[f][c] -> face[f][(c+1)%3], or -1.
+  std::vector<std::array<int, 3>> face_across;
+
+  // Boundary vertices in the order that keeps the faces on the left (counter-clockwise when
+  // the faces are counter-clockwise).
+  std::vector<int> boundary_loop;
+
+  int vertexCount() const { return static_cast<int>(position.size()); }
+  int faceCount() const { return static_cast<int>(face.size()); }
+  int ringSize(int v) const { return ring_begin[v + 1] - ring_begin[v]; }
+  int interiorCount() const { return vertexCount() - static_cast<int>(boundary_loop.size()); }
+};
+
+// Builds the patch and checks it is a disk. Throws ParameterizationError naming the first
+// problem found (index out of range, non-finite coordinate, repeated vertex in a face, duplicate
+// face, non-manifold edge or vertex, inconsistent orientation, closed mesh, several components,
+// several boundary loops, wrong Euler characteristic).
+Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& V,
+                 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& F);
+
+}  // namespace sdp

@@ -1,0 +1,39 @@
+// What the user gets back besides the UVs: SPEC.md §5 metrics and §6 report keys.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sdp {
+
+struct Report {
+  int vertices = 0;  // vertices referenced by the patch
+  int faces = 0;
+  std::string weights;        // scheme asked for (CLI name)
+  std::string boundary;       // boundary asked for (CLI name)
+  std::string boundary_used;  // boundary actually used (differs after a safety fallback)
+  int source_vertex = -1;     // input index of S (measured boundary), else -1
+  double l2_stretch = 0;      // Sander L2, 1.0 = isometric
+  double linf_stretch = 0;    // Sander L-infinity (worst face)
+  int flipped_faces = 0;      // faces with non-positive signed UV area in the returned map
+  int stretch_iterations_run = 0;
+  int best_iteration = 0;        // iteration whose map was kept (0 = linear solve)
+  double l2_stretch_linear = 0;  // L2 of the linear map before refinement
+  // Fallbacks, all counted; `fallbacks` is their sum.
+  int fallbacks = 0;
+  int straightest_to_ltd = 0;  // neighbours whose cutting plane crossed no far-side edge
+  int degenerate_rings = 0;    // interior vertices with a degenerate 1-ring -> uniform weights
+  int walk_fallbacks = 0;      // boundary vertices whose plane walk failed -> geodesic distance
+  int boundary_fallbacks = 0;  // whole-boundary fallbacks (e.g. measured -> circle)
+  int unreferenced_vertices = 0;
+  double seconds = 0;  // wall time of the parameterization (no file I/O)
+  std::vector<std::pair<std::string, double>> stage_seconds;  // in run order
+  std::vector<std::string> warnings;                          // one line each, for logs
+
+  // JSON object with the SPEC keys (pymeshlab dict keys + vertices, faces, weights, boundary,
+  // stage_seconds) and the breakdown above.
+  std::string toJson() const;
+};
+
+}  // namespace sdp

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include "core/metrics.h"
+#include "core/patch.h"
+#include "test_meshes.h"
+
+namespace sdp {
+namespace {
+
+std::vector<Eigen::Vector2d> affineUVs(const Patch& patch, const Eigen::Matrix2d& A) {
+  std::vector<Eigen::Vector2d> uv;
+  for (const auto& q : patch.position) uv.push_back(A * Eigen::Vector2d(q.x(), q.y()));
+  return uv;
+}
+
+TEST(Metrics, FaceStretchOfKnownAffineMaps) {
+  const Eigen::Vector3d q[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  // uv = (2x, y): the 2D -> 3D map has singular values 1/2 and 1.
+  const Eigen::Vector2d p[3] = {{0, 0}, {2, 0}, {0, 1}};
+  const FaceStretch s = faceStretch(q, p);
+  EXPECT_NEAR(s.l2, std::sqrt((0.25 + 1.0) / 2), 1e-12);
+  EXPECT_NEAR(s.linf, 1.0, 1e-12);
+  EXPECT_NEAR(s.area2d, 1.0, 1e-12);
+  EXPECT_NEAR(s.area3d, 0.5, 1e-12);
+  // A rotation is isometric.
+  const double c = std::cos(0.7), si = std::sin(0.7);
+  const Eigen::Vector2d r[3] = {{0, 0}, {c, si}, {-si, c}};
+  EXPECT_NEAR(faceStretch(q, r).l2, 1.0, 1e-12);
+  EXPECT_NEAR(faceStretch(q, r).linf, 1.0, 1e-12);
+}
+
+TEST(Metrics, MeshStretchIsScaleInvariantAndOneForSimilarities) {
+  const test::Mesh m = test::planarGrid(6);
+  const Patch patch = buildPatch(m.V, m.F);
+  Eigen::Matrix2d similarity;
+  similarity << 0.3, -0.4, 0.4, 0.3;  // rotation and scale 0.5
+  const StretchMetrics s = stretchMetrics(patch, affineUVs(patch, similarity));
+  EXPECT_NEAR(s.l2, 1.0, 1e-12);
+  EXPECT_NEAR(s.linf, 1.0, 1e-12);
+  EXPECT_EQ(s.flipped_faces, 0);
+  // Anisotropic (3x, y): singular values of the inverse 1/3 and 1, normalized by sqrt(3).
+  Eigen::Matrix2d stretch;
+  stretch << 3, 0, 0, 1;
+  const StretchMetrics t = stretchMetrics(patch, affineUVs(patch, stretch));
+  EXPECT_NEAR(t.l2, std::sqrt((1.0 / 9 + 1) / 2) * std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(t.linf, std::sqrt(3.0), 1e-12);
+  for (double f : t.face_l2) EXPECT_NEAR(f, t.l2, 1e-12);
+}
+
+TEST(Metrics, FlippedAndDegenerateFacesAreCounted) {
+  const test::Mesh m = test::planarGrid(4);
+  const Patch patch = buildPatch(m.V, m.F);
+  std::vector<Eigen::Vector2d> uv = affineUVs(patch, Eigen::Matrix2d::Identity());
+  EXPECT_EQ(stretchMetrics(patch, uv).flipped_faces, 0);
+  // Mirror: every face flips.
+  Eigen::Matrix2d mirror;
+  mirror << -1, 0, 0, 1;
+  EXPECT_EQ(stretchMetrics(patch, affineUVs(patch, mirror)).flipped_faces, patch.faceCount());
+  // Pull one interior vertex across its neighbour: some of its faces fold.
+  const int v = patch.local_vertex[2 * 5 + 2];
+  uv[v] += Eigen::Vector2d(1.2, 0);
+  const StretchMetrics folded = stretchMetrics(patch, uv);
+  EXPECT_GT(folded.flipped_faces, 0);
+  EXPECT_FALSE(std::isfinite(folded.l2));
+  // Collapse a face to a segment: degenerate counts too.
+  uv = affineUVs(patch, Eigen::Matrix2d::Identity());
+  const auto& t = patch.face[0];
+  uv[t[2]] = 0.5 * (uv[t[0]] + uv[t[1]]);
+  EXPECT_GE(stretchMetrics(patch, uv).flipped_faces, 1);
+}
+
+}  // namespace
+}  // namespace sdp
