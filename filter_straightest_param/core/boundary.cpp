@@ -138,14 +138,15 @@ int chooseSourceVertex(const Patch& patch, SourceRule rule) {
   if (rule == SourceRule::FarthestFromBoundary) {
     const std::vector<double> dist = edgeGraphDistances(patch, patch.boundary_loop);
     for (int v = 0; v < n; ++v)
-      if (!patch.on_boundary[v] && (best < 0 || dist[v] > dist[best])) best = v;
+      if (!patch.on_boundary[v] && !patch.isVirtual(v) && (best < 0 || dist[v] > dist[best]))
+        best = v;
   } else {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (int b : patch.boundary_loop) centroid += patch.position[b];
     centroid /= static_cast<double>(patch.boundary_loop.size());
     double best_d = 0;
     for (int v = 0; v < n; ++v) {
-      if (patch.on_boundary[v]) continue;
+      if (patch.on_boundary[v] || patch.isVirtual(v)) continue;
       const double d = (patch.position[v] - centroid).squaredNorm();
       if (best < 0 || d < best_d) best = v, best_d = d;
     }
@@ -327,10 +328,12 @@ Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts)
   Polygon convex = makeStrictlyConvex(polar, boundarySpacing(patch));
   if (convex.empty()) return {};
   double area3d = 0;
-  for (const auto& t : patch.face)
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    const auto& t = patch.face[f];
     area3d += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
                         .cross(patch.position[t[2]] - patch.position[t[0]])
                         .norm();
+  }
   const double scale = std::sqrt(area3d / polygonArea(convex));
   for (auto& q : convex) q *= scale;
   return convex;

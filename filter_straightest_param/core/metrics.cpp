@@ -27,7 +27,7 @@ FaceStretch faceStretch(const Eigen::Vector3d q[3], const Eigen::Vector2d p[3]) 
 }
 
 StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
-  const int faces = patch.faceCount();
+  const int faces = patch.real_face_count;  // virtual hole fills do not count
   StretchMetrics m;
   m.face_l2.resize(faces);
   std::vector<FaceStretch> stretch(faces);

@@ -32,8 +32,9 @@ struct Options {
   BoundaryShape boundary = BoundaryShape::Measured;
   int source_vertex = -1;  // -1: automatic (source_rule); else an index into the input vertices
   SourceRule source_rule = SourceRule::FarthestFromBoundary;
-  int stretch_iterations = 0;     // 0: the paper's linear method
-  double stretch_exponent = 1.0;  // eta of Yoshizawa-Belyaev-Seidel reweighting
+  int outer_boundary_vertex = -1;  // with holes: a vertex on the outer loop; -1: longest loop
+  int stretch_iterations = 0;      // 0: the paper's linear method
+  double stretch_exponent = 1.0;   // eta of Yoshizawa-Belyaev-Seidel reweighting
   ProgressCallback progress;
 };
 

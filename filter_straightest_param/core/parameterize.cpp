@@ -88,10 +88,13 @@ Result parameterize(const Positions& V, const Triangles& F, const Options& optio
   StageClock clock(report, options.progress);
 
   clock.begin("topology", 0);
-  const Patch patch = buildPatch(V, F);
-  report.vertices = patch.vertexCount();
-  report.faces = patch.faceCount();
-  report.unreferenced_vertices = static_cast<int>(V.rows()) - patch.vertexCount();
+  PatchOptions patch_options;
+  patch_options.outer_vertex = options.outer_boundary_vertex;
+  const Patch patch = buildPatch(V, F, patch_options);
+  report.vertices = patch.real_vertex_count;
+  report.faces = patch.real_face_count;
+  report.holes_filled = patch.holes_filled;
+  report.unreferenced_vertices = static_cast<int>(V.rows()) - patch.real_vertex_count;
   BoundaryShape shape = options.boundary;
   int source = userSource(patch, static_cast<int>(V.rows()), options.source_vertex,
                           shape == BoundaryShape::Measured);
@@ -223,7 +226,7 @@ Result parameterize(const Positions& V, const Triangles& F, const Options& optio
                               "or wandered)");
 
   result.uv = UVs::Zero(V.rows(), 2);
-  for (int v = 0; v < patch.vertexCount(); ++v)
+  for (int v = 0; v < patch.real_vertex_count; ++v)
     result.uv.row(patch.input_vertex[v]) = uv[v].transpose();
   result.face_stretch = std::move(metrics.face_l2);
   report.seconds = std::chrono::duration<double>(Clock::now() - run_start).count();

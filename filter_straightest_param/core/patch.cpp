@@ -18,10 +18,13 @@ struct HalfEdge {
   int face;
 };
 
-}  // namespace
+using PositionMatrix = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using TriangleMatrix = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& V,
-                 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& F) {
+// The whole check and build. With `all_loops` given and more than one boundary loop, it stops
+// after finding the loops (as input vertex indices) and returns an incomplete patch.
+Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
+                   std::vector<std::vector<int>>* all_loops) {
   const int input_vertices = static_cast<int>(V.rows());
   const int faces = static_cast<int>(F.rows());
   if (faces == 0) fail("the mesh has no faces");
@@ -157,7 +160,6 @@ Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>
   int loops = 0;
   {
     std::vector<char> visited(n, 0);
-    std::vector<int> longest;
     for (int start = 0; start < n; ++start) {
       if (!p.on_boundary[start] || visited[start]) continue;
       ++loops;
@@ -166,10 +168,15 @@ Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>
         visited[v] = 1;
         loop.push_back(v);
       }
-      if (loop.size() > longest.size()) longest.swap(loop);
+      if (all_loops) {
+        all_loops->emplace_back();
+        for (int v : loop) all_loops->back().push_back(p.input_vertex[v]);
+      }
+      if (loops == 1) p.boundary_loop.swap(loop);
     }
-    p.boundary_loop.swap(longest);
   }
+  if (loops > 1 && all_loops) return p;
+  if (all_loops) all_loops->clear();
   if (loops > 1)
     fail("the patch has " + std::to_string(loops) +
          " boundary loops (holes); only disk-shaped patches with one boundary loop are supported");
@@ -222,6 +229,66 @@ Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>
   if (euler != 1)
     fail("the patch has Euler characteristic " + std::to_string(euler) + " (genus " +
          std::to_string((1 - euler) / 2) + "); it must be a topological disk (characteristic 1)");
+  p.real_vertex_count = n;
+  p.real_face_count = faces;
+  return p;
+}
+
+double loopLength(const PositionMatrix& V, const std::vector<int>& loop) {
+  double length = 0;
+  for (size_t k = 0; k < loop.size(); ++k)
+    length += (V.row(loop[(k + 1) % loop.size()]) - V.row(loop[k])).norm();
+  return length;
+}
+
+}  // namespace
+
+Patch buildPatch(const PositionMatrix& V, const TriangleMatrix& F, const PatchOptions& options) {
+  std::vector<std::vector<int>> loops;
+  Patch first = analyzePatch(V, F, options.fill_holes ? &loops : nullptr);
+  if (loops.size() <= 1) return first;
+
+  // Outer loop: the one holding the user's vertex, else the longest.
+  size_t outer = 0;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    const bool holds =
+        std::find(loops[l].begin(), loops[l].end(), options.outer_vertex) != loops[l].end();
+    if (options.outer_vertex >= 0 ? holds : loopLength(V, loops[l]) > loopLength(V, loops[outer]))
+      outer = l;
+  }
+  if (options.outer_vertex >= 0 && std::find(loops[outer].begin(), loops[outer].end(),
+                                             options.outer_vertex) == loops[outer].end())
+    fail("outer boundary vertex " + std::to_string(options.outer_vertex) +
+         " is not on a boundary loop");
+
+  // Fill every other loop with a fan to its centroid. A loop runs with the faces on its left,
+  // so the fan face over boundary edge a -> b is (b, a, centre).
+  const int holes = static_cast<int>(loops.size()) - 1;
+  size_t fan_faces = 0;
+  for (size_t l = 0; l < loops.size(); ++l)
+    if (l != outer) fan_faces += loops[l].size();
+  PositionMatrix filled_V(V.rows() + holes, 3);
+  filled_V.topRows(V.rows()) = V;
+  TriangleMatrix filled_F(F.rows() + fan_faces, 3);
+  filled_F.topRows(F.rows()) = F;
+  int centre = static_cast<int>(V.rows()), row = static_cast<int>(F.rows());
+  for (size_t l = 0; l < loops.size(); ++l) {
+    if (l == outer) continue;
+    const auto& loop = loops[l];
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    for (int v : loop) sum += V.row(v);
+    filled_V.row(centre) = sum / static_cast<double>(loop.size());
+    for (size_t k = 0; k < loop.size(); ++k)
+      filled_F.row(row++) << loop[(k + 1) % loop.size()], loop[k], centre;
+    ++centre;
+  }
+  Patch p = analyzePatch(filled_V, filled_F, nullptr);
+  // Virtual centres were appended to the input, so they are the last local vertices.
+  p.real_vertex_count = p.vertexCount() - holes;
+  p.real_face_count = static_cast<int>(F.rows());
+  p.holes_filled = holes;
+  for (int v = p.real_vertex_count; v < p.vertexCount(); ++v) p.input_vertex[v] = -1;
+  p.local_vertex.resize(V.rows());
   return p;
 }
 

@@ -29,20 +29,34 @@ struct Patch {
   std::vector<std::array<int, 3>> face_across;
 
   // Boundary vertices in the order that keeps the faces on the left (counter-clockwise when
-  // the faces are counter-clockwise).
+  // the faces are counter-clockwise). With holes: the outer loop.
   std::vector<int> boundary_loop;
 
+  // Holes are filled virtually for the solve: each inner loop gets a fan to a virtual centre
+  // vertex. Virtual vertices come after the real ones (input_vertex -1), virtual faces after the
+  // input faces, so [0, real_vertex_count) and [0, real_face_count) are the user's mesh.
+  int real_vertex_count = 0;
+  int real_face_count = 0;
+  int holes_filled = 0;
+
   int vertexCount() const { return static_cast<int>(position.size()); }
+  bool isVirtual(int v) const { return v >= real_vertex_count; }
   int faceCount() const { return static_cast<int>(face.size()); }
   int ringSize(int v) const { return ring_begin[v + 1] - ring_begin[v]; }
   int interiorCount() const { return vertexCount() - static_cast<int>(boundary_loop.size()); }
 };
 
-// Builds the patch and checks it is a disk. Throws ParameterizationError naming the first
-// problem found (index out of range, non-finite coordinate, repeated vertex in a face, duplicate
-// face, non-manifold edge or vertex, inconsistent orientation, closed mesh, several components,
-// several boundary loops, wrong Euler characteristic).
+struct PatchOptions {
+  bool fill_holes = true;  // false: several boundary loops are an error
+  int outer_vertex = -1;   // input index of a vertex on the outer loop; -1: the longest loop
+};
+
+// Builds the patch and checks it is a disk (after filling holes). Throws ParameterizationError
+// naming the first problem found (index out of range, non-finite coordinate, repeated vertex in
+// a face, duplicate face, non-manifold edge or vertex, inconsistent orientation, closed mesh,
+// several components, several boundary loops when not filling, wrong Euler characteristic).
 Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& V,
-                 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& F);
+                 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& F,
+                 const PatchOptions& options = {});
 
 }  // namespace sdp

@@ -67,6 +67,7 @@ std::string Report::toJson() const {
     << ", \"degenerate_rings\": " << degenerate_rings << ", \"walk_fallbacks\": " << walk_fallbacks
     << ", \"boundary_fallbacks\": " << boundary_fallbacks << "},\n";
   o << "  \"unreferenced_vertices\": " << unreferenced_vertices << ",\n";
+  o << "  \"holes_filled\": " << holes_filled << ",\n";
   o << "  \"stage_seconds\": {";
   for (size_t i = 0; i < stage_seconds.size(); ++i)
     o << (i ? ", " : "") << jsonString(stage_seconds[i].first) << ": "

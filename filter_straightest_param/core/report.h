@@ -27,7 +27,8 @@ struct Report {
   int walk_fallbacks = 0;      // boundary vertices whose plane walk failed -> geodesic distance
   int boundary_fallbacks = 0;  // whole-boundary fallbacks (e.g. measured -> circle)
   int unreferenced_vertices = 0;
-  double seconds = 0;  // wall time of the parameterization (no file I/O)
+  int holes_filled = 0;  // inner boundary loops filled virtually for the solve
+  double seconds = 0;    // wall time of the parameterization (no file I/O)
   std::vector<std::pair<std::string, double>> stage_seconds;  // in run order
   std::vector<std::string> warnings;                          // one line each, for logs
 

@@ -69,9 +69,24 @@ TEST(InvalidMeshes, EachIsRejectedWithItsReason) {
   EXPECT_EQ(files, 6);
 }
 
-// Holes are refused with a reason until the holes support lands.
-TEST(InvalidMeshes, PatchesWithHolesAreRefusedWithTheLoopCount) {
-  EXPECT_NE(reasonFor("holes/beetle.off").find("11 boundary loops"), std::string::npos);
+// Patches with holes: inner loops are filled virtually for the solve; the map of the real
+// faces is one-to-one and the fill is gone from the result.
+TEST(Holes, BeetleAndHalfTunnelGiveOneToOneMaps) {
+  for (const char* name : {"holes/beetle.off", "holes/halftunnel_quads.off"}) {
+    const io::MeshData mesh = io::readMesh(test::sharedMesh(name));
+    for (int b = 0; b < kBoundaryShapeCount; ++b) {
+      Options o;
+      o.boundary = static_cast<BoundaryShape>(b);
+      const Result r = parameterize(mesh.V, mesh.F, o);
+      EXPECT_EQ(r.uv.rows(), mesh.V.rows()) << name;
+      EXPECT_EQ(r.face_stretch.size(), static_cast<size_t>(mesh.F.rows())) << name;
+      EXPECT_EQ(r.report.flipped_faces, 0) << name;
+      EXPECT_EQ(test::countNonPositiveFaces(r, mesh.F), 0) << name;
+      EXPECT_TRUE(std::isfinite(r.report.l2_stretch)) << name;
+    }
+  }
+  const io::MeshData beetle = io::readMesh(test::sharedMesh("holes/beetle.off"));
+  EXPECT_EQ(parameterize(beetle.V, beetle.F).report.holes_filled, 10);
 }
 
 // The paper's Table 1 ordering (circle boundary): ours <= LTD <= Floater on Nefertiti.

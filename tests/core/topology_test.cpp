@@ -104,7 +104,26 @@ TEST(Topology, RejectsAnnulusAndNonManifoldVertex) {
     F.row(2 * k) << i0, o0, o1;
     F.row(2 * k + 1) << i0, o1, i1;
   }
-  EXPECT_NE(reasonFor(V, F).find("2 boundary loops"), std::string::npos);
+  PatchOptions no_fill;
+  no_fill.fill_holes = false;
+  try {
+    buildPatch(V, F, no_fill);
+    ADD_FAILURE() << "annulus accepted without filling";
+  } catch (const ParameterizationError& e) {
+    EXPECT_NE(std::string(e.what()).find("2 boundary loops"), std::string::npos);
+  }
+  // Filled: one virtual centre, eight fan faces, the outer (longer) loop is the boundary.
+  const Patch filled = buildPatch(V, F);
+  EXPECT_EQ(filled.holes_filled, 1);
+  EXPECT_EQ(filled.real_vertex_count, 16);
+  EXPECT_EQ(filled.vertexCount(), 17);
+  EXPECT_EQ(filled.real_face_count, 16);
+  EXPECT_EQ(filled.faceCount(), 24);
+  for (int b : filled.boundary_loop) EXPECT_GE(b, 8);
+  // The user may pick the other loop as the outer one.
+  PatchOptions inner_outer;
+  inner_outer.outer_vertex = 0;
+  for (int b : buildPatch(V, F, inner_outer).boundary_loop) EXPECT_LT(b, 8);
 
   // Two fans glued at their centre vertex: connected through edges? No -- through the vertex
   // only, but a shared edge keeps it one piece here: a vertex with two fans.
