@@ -12,7 +12,9 @@ FaceStretch faceStretch(const Eigen::Vector3d q[3], const Eigen::Vector2d p[3]) 
                t3 = p[2].y();
   r.area2d = 0.5 * ((s2 - s1) * (t3 - t1) - (s3 - s1) * (t2 - t1));
   r.area3d = 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).norm();
-  if (!(r.area2d > 0)) {
+  // A flipped face still has a well-defined stretch (the signs cancel), which keeps peers'
+  // folded maps comparable; only a collapsed face stretches infinitely.
+  if (!(r.area2d != 0) || !std::isfinite(r.area2d)) {
     r.l2 = r.linf = std::numeric_limits<double>::infinity();
     return r;
   }
@@ -40,9 +42,12 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
     area2d += stretch[f].area2d;
     area3d += stretch[f].area3d;
   }
+  // Orientation is the layout's majority (a mirrored layout is still one-to-one; our own maps
+  // are always counter-clockwise).
+  const double orientation = area2d < 0 ? -1.0 : 1.0;
   const double tiny = 1e-14 * std::abs(area2d);
   for (int f = 0; f < faces; ++f) {
-    if (!(stretch[f].area2d > tiny)) ++m.flipped_faces;
+    if (!(orientation * stretch[f].area2d > tiny)) ++m.flipped_faces;
     weighted += stretch[f].l2 * stretch[f].l2 * stretch[f].area3d;
     worst = std::max(worst, stretch[f].linf);
   }

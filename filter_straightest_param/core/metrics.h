@@ -10,7 +10,7 @@
 namespace sdp {
 
 struct FaceStretch {
-  double l2 = 0;      // sqrt((a + c) / 2), infinite for a flipped or degenerate face
+  double l2 = 0;      // sqrt((a + c) / 2), infinite for a collapsed (zero-area) face
   double linf = 0;    // largest singular value of the 2D -> 3D map
   double area2d = 0;  // signed
   double area3d = 0;

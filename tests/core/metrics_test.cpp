@@ -52,16 +52,16 @@ TEST(Metrics, FlippedAndDegenerateFacesAreCounted) {
   const Patch patch = buildPatch(m.V, m.F);
   std::vector<Eigen::Vector2d> uv = affineUVs(patch, Eigen::Matrix2d::Identity());
   EXPECT_EQ(stretchMetrics(patch, uv).flipped_faces, 0);
-  // Mirror: every face flips.
+  // A mirrored layout is still one-to-one: orientation follows the majority.
   Eigen::Matrix2d mirror;
   mirror << -1, 0, 0, 1;
-  EXPECT_EQ(stretchMetrics(patch, affineUVs(patch, mirror)).flipped_faces, patch.faceCount());
+  EXPECT_EQ(stretchMetrics(patch, affineUVs(patch, mirror)).flipped_faces, 0);
   // Pull one interior vertex across its neighbour: some of its faces fold.
   const int v = patch.local_vertex[2 * 5 + 2];
   uv[v] += Eigen::Vector2d(1.2, 0);
   const StretchMetrics folded = stretchMetrics(patch, uv);
   EXPECT_GT(folded.flipped_faces, 0);
-  EXPECT_FALSE(std::isfinite(folded.l2));
+  EXPECT_TRUE(std::isfinite(folded.l2));  // folded, but measurable (peers' maps fold)
   // Collapse a face to a segment: degenerate counts too.
   uv = affineUVs(patch, Eigen::Matrix2d::Identity());
   const auto& t = patch.face[0];

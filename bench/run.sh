@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# One command for every benchmark table and plot in the README:
+#   bash bench/run.sh            quality tables, paper Table 1, scaling (CGAL up to 414k vertices)
+#   bash bench/run.sh --quick    small meshes only (a smoke run, a few minutes)
+#   bash bench/run.sh --full     scaling also runs CGAL at 1.65M vertices (~8 more minutes)
+# Results go to bench/results/ (Markdown, CSV, PNG) and into the README between bench markers.
+set -euo pipefail
+repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$repo_dir"
+bash scripts/install-deps.sh
+.venv/bin/python -m pip install --disable-pip-version-check -q matplotlib
+build_dir="${SDP_BUILD_DIR:-$repo_dir/build}"
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_cgal_peer straightest_param
+exec .venv/bin/python bench/run.py --build-dir "$build_dir" "$@"
