@@ -1,0 +1,48 @@
+// Mesh files for the command line tool: OFF, OBJ and PLY in, OBJ+MTL+PNG or PLY out.
+// Readers take untrusted bytes (a fuzzer drives them): every problem is a ParameterizationError
+// with a one-line reason naming the file, never a crash, a hang or an allocation larger than the
+// input justifies. Writers replace their target atomically (temporary file + rename).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/parameterize.h"
+
+namespace sdp::io {
+
+struct MeshData {
+  sdp::Positions V;
+  sdp::Triangles F;
+  int polygons_triangulated = 0;  // input faces with more than 3 corners, fan-triangulated
+};
+
+// Dispatches on the extension (.off, .obj, .ply, any letter case). The reason of an error starts
+// with the file name, e.g. "truncated.off: file ends after 66 of 299 vertices".
+MeshData readMesh(const std::string& path);
+
+// `format` is "off", "obj" or "ply" (any case, a leading dot allowed).
+MeshData readMeshFromMemory(const std::string& bytes, const std::string& format);
+
+// True when readMesh knows the extension of `path`.
+bool isReadableMeshPath(const std::string& path);
+
+// OBJ with one `vt` per vertex and `f v/vt` corners (per-wedge texture coordinates as MeshLab
+// reads them), plus `<stem>.mtl` next to it whose material maps `texture_png_filename`
+// (a file name relative to the OBJ's folder).
+void writeObjWithTexture(const std::string& path, const sdp::Positions& V, const sdp::Triangles& F,
+                         const sdp::UVs& uv, const std::string& texture_png_filename);
+
+// Binary little-endian PLY: vertex float x y z; face `list uchar int vertex_indices` and
+// `list uchar float texcoord` (u0 v0 u1 v1 u2 v2), MeshLab's per-wedge texture coordinates.
+void writePly(const std::string& path, const sdp::Positions& V, const sdp::Triangles& F,
+              const sdp::UVs& uv);
+
+// 8-bit RGB PNG; `rgb` holds width * height * 3 bytes, top row first.
+void writePng(const std::string& path, int width, int height,
+              const std::vector<unsigned char>& rgb);
+
+// Writes `text` to `path` atomically (used for the JSON report).
+void writeTextFile(const std::string& path, const std::string& text);
+
+}  // namespace sdp::io
