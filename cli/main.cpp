@@ -48,6 +48,8 @@ options:
   --source-rule R         automatic source: farthest (from the boundary, default) or centroid
                           (nearest the centroid of the boundary vertices)
   --stretch-iterations K  stretch-minimizing refinement steps (default 0: the linear method)
+  --outer-vertex N        patches with holes: a vertex on the loop to use as the outer
+                          boundary (default: the longest loop; the others are filled virtually)
   --report FILE.json      also write the report to FILE.json
   --checkers N            checkerboard squares per side (default 16)
   --texture-size PX       checkerboard PNG width and height in pixels (default 1024)
@@ -168,6 +170,9 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
       args.options.source_rule = *rule;
     } else if (arg == "--source") {
       args.options.source_vertex =
+          parseIntOption(arg, value(), -1, std::numeric_limits<int>::max());
+    } else if (arg == "--outer-vertex") {
+      args.options.outer_boundary_vertex =
           parseIntOption(arg, value(), -1, std::numeric_limits<int>::max());
     } else if (arg == "--stretch-iterations") {
       args.options.stretch_iterations = parseIntOption(arg, value(), 0, 1000);
