@@ -1,0 +1,112 @@
+#include "filter_straightest_param.h"
+
+#include <exception>
+#include <new>
+#include <string>
+
+#include "filter_straightest_param/filter_description.h"
+#include "vcg_adapters/filter_run.h"
+#include "vcg_adapters/meshlab_support.h"
+#include "vcg_adapters/patch_adapter.h"
+
+namespace adapter = sdp::vcg_adapter;
+
+FilterStraightestParamPlugin::FilterStraightestParamPlugin() {
+  typeList << FP_STRAIGHTEST_PARAM;
+  for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
+}
+
+QString FilterStraightestParamPlugin::pluginName() const {
+  return "FilterStraightestParam";
+}
+
+QString FilterStraightestParamPlugin::filterName(FilterIDType) const {
+  return QString::fromUtf8(sdp::filter::kFilterName);
+}
+
+QString FilterStraightestParamPlugin::filterInfo(FilterIDType) const {
+  return QString::fromStdString(sdp::filter::filterHelp());
+}
+
+MeshFilterInterface::FilterClass FilterStraightestParamPlugin::getClass(QAction*) {
+  // Texture also makes the GUI reload cm.textures after the run (MainWindow::updateTexture).
+  return MeshFilterInterface::Texture;
+}
+
+int FilterStraightestParamPlugin::getPreConditions(QAction*) const {
+  return MeshModel::MM_FACENUMBER;
+}
+
+int FilterStraightestParamPlugin::postCondition(QAction*) const {
+  return MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_VERTTEXCOORD | MeshModel::MM_FACEQUALITY;
+}
+
+MeshFilterInterface::FILTER_ARITY FilterStraightestParamPlugin::filterArity(QAction*) const {
+  return SINGLE_MESH;
+}
+
+void FilterStraightestParamPlugin::initParameterSet(QAction*, MeshModel&,
+                                                    RichParameterList& parameters) {
+  adapter::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
+}
+
+// meshlabserver prints only "Problem with filter" for a false return: the log line carries the
+// reason to script users, errorMessage to the GUI's dialog.
+void FilterStraightestParamPlugin::fail(const std::string& reason) {
+  errorMessage = QString::fromStdString(reason);
+  Log(GLLogStream::WARNING, "%s: %s", sdp::filter::kFilterName, reason.c_str());
+}
+
+bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
+                                               const RichParameterList& parameters,
+                                               vcg::CallBackPos* cb) {
+  errorMessage.clear();
+  try {
+    MeshModel* mm = md.mm();
+    if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
+    const sdp::filter::FilterValues values = adapter::readFilterValues(parameters);
+    adapter::checkTextureValues(values);
+
+    adapter::ProgressSink progress;
+    if (cb != nullptr) {
+      // meshlabserver prints the text as is: one line per stage.
+      progress = [cb](int percent, const char* stage) {
+        cb(percent, ("straightest distances: " + std::string(stage) + "\n").c_str());
+      };
+    }
+    const adapter::FilterRun run = adapter::runParameterization(mm->cm, values, progress);
+
+    adapter::WriteOptions write;
+    // Per-vertex UVs only where the mesh already had them, so they do not go stale.
+    write.vertex_texcoords = mm->hasDataMask(MeshModel::MM_VERTTEXCOORD);
+    const auto stored = adapter::prepareResult<CMeshO>(run.input, run.result, write);
+    // Nothing below runs unless the core succeeded; the texture is written before the mesh
+    // changes, so its failure too leaves the mesh as it was.
+    const adapter::CheckerTexture texture = adapter::writeCheckerTexture(
+        mm->fullName(), values.texture_name, values.texture_size, values.checkers);
+
+    mm->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_FACEQUALITY);
+    adapter::applyResult(mm->cm, run.input, stored, write);
+
+    // 2020.09 loads cm.textures relative to the process's current folder (not the mesh's), so
+    // the absolute path is what lets the GUI show the checkerboard at once; the OBJ exporter
+    // writes it to map_Kd as is.
+    mm->cm.textures.clear();
+    mm->cm.textures.push_back(texture.path.toStdString());
+
+    for (const std::string& line : adapter::reportLines(run, stored.metrics))
+      Log("%s", line.c_str());
+    Log("texture %s", qUtf8Printable(texture.path));
+    if (cb != nullptr) cb(100, "straightest distances: done\n");
+    return true;
+  } catch (const std::bad_alloc&) {
+    fail("not enough memory");
+  } catch (const std::exception& e) {
+    fail(e.what());
+  } catch (...) {
+    fail("unknown error");
+  }
+  return false;
+}
+
+MESHLAB_PLUGIN_NAME_EXPORTER(FilterStraightestParamPlugin)

@@ -1,0 +1,32 @@
+// MeshLab 2020.09 shim (Debian's meshlab GUI and meshlabserver): a thin MeshFilterInterface over
+// the shared filter description and the core. Everything it shows comes from
+// filter_description.h; everything it computes comes from sdp::parameterize.
+#pragma once
+
+#include <common/interfaces.h>
+#include <QObject>
+
+class FilterStraightestParamPlugin : public QObject, public MeshFilterInterface {
+  Q_OBJECT
+  MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
+  Q_INTERFACES(MeshFilterInterface)
+
+ public:
+  enum { FP_STRAIGHTEST_PARAM };
+
+  FilterStraightestParamPlugin();
+
+  QString pluginName() const override;
+  QString filterName(FilterIDType filter) const override;
+  QString filterInfo(FilterIDType filter) const override;
+  FilterClass getClass(QAction* action) override;
+  int getPreConditions(QAction* action) const override;
+  int postCondition(QAction* action) const override;
+  FILTER_ARITY filterArity(QAction* action) const override;
+  void initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters) override;
+  bool applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,
+                   vcg::CallBackPos* cb) override;
+
+ private:
+  void fail(const std::string& reason);
+};

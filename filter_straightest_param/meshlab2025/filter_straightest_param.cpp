@@ -1,0 +1,120 @@
+#include "filter_straightest_param.h"
+
+#include <common/mlexception.h>
+#include <exception>
+#include <new>
+#include <string>
+
+#include "filter_straightest_param/filter_description.h"
+#include "vcg_adapters/filter_run.h"
+#include "vcg_adapters/meshlab_support.h"
+#include "vcg_adapters/patch_adapter.h"
+
+namespace adapter = sdp::vcg_adapter;
+
+FilterStraightestParamPlugin::FilterStraightestParamPlugin() {
+  typeList = {FP_STRAIGHTEST_PARAM};
+  for (ActionIDType id : types()) actionList.push_back(new QAction(filterName(id), this));
+}
+
+QString FilterStraightestParamPlugin::pluginName() const {
+  return "FilterStraightestParam";
+}
+
+QString FilterStraightestParamPlugin::vendor() const {
+  return "straightest_param";
+}
+
+QString FilterStraightestParamPlugin::filterName(ActionIDType) const {
+  return QString::fromUtf8(sdp::filter::kFilterName);
+}
+
+// Set explicitly (SPEC §6), not derived from the menu name as FilterPlugin's default does.
+QString FilterStraightestParamPlugin::pythonFilterName(ActionIDType) const {
+  return QString::fromUtf8(sdp::filter::kPythonFilterName);
+}
+
+QString FilterStraightestParamPlugin::filterInfo(ActionIDType) const {
+  return QString::fromStdString(sdp::filter::filterHelp());
+}
+
+FilterPlugin::FilterClass FilterStraightestParamPlugin::getClass(const QAction*) const {
+  return FilterPlugin::Texture;
+}
+
+int FilterStraightestParamPlugin::getPreConditions(const QAction*) const {
+  return MeshModel::MM_FACENUMBER;
+}
+
+int FilterStraightestParamPlugin::postCondition(const QAction*) const {
+  return MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_VERTTEXCOORD | MeshModel::MM_FACEQUALITY;
+}
+
+FilterPlugin::FilterArity FilterStraightestParamPlugin::filterArity(const QAction*) const {
+  return SINGLE_MESH;
+}
+
+RichParameterList FilterStraightestParamPlugin::initParameterList(const QAction*,
+                                                                  const MeshModel&) {
+  RichParameterList parameters;
+  adapter::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
+  return parameters;
+}
+
+std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
+    const QAction*, const RichParameterList& parameters, MeshDocument& md,
+    unsigned int& /*postConditionMask*/, vcg::CallBackPos* cb) {
+  // Every failure leaves here as MLException with the core's one-line reason: pymeshlab turns it
+  // into PyMeshLabException, the GUI into its error dialog. Nothing else may escape.
+  std::string reason;
+  try {
+    MeshModel* mm = md.mm();
+    if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
+    const sdp::filter::FilterValues values = adapter::readFilterValues(parameters);
+    adapter::checkTextureValues(values);
+
+    adapter::ProgressSink progress;
+    if (cb != nullptr) progress = [cb](int percent, const char* stage) { cb(percent, stage); };
+    const adapter::FilterRun run = adapter::runParameterization(mm->cm, values, progress);
+
+    adapter::WriteOptions write;
+    // Per-vertex UVs only where the mesh already had them, so they do not go stale.
+    write.vertex_texcoords = mm->hasDataMask(MeshModel::MM_VERTTEXCOORD);
+    const auto stored = adapter::prepareResult<CMeshO>(run.input, run.result, write);
+    // Only after the core and prepareResult succeeded: the texture file, then the mesh.
+    const adapter::CheckerTexture texture = adapter::writeCheckerTexture(
+        mm->fullName(), values.texture_name, values.texture_size, values.checkers);
+
+    mm->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_FACEQUALITY);
+    adapter::applyResult(mm->cm, run.input, stored, write);
+
+    // 2025.07 keeps the image in memory under its file name; saving the mesh writes it beside
+    // the saved file, and the GUI shows it from memory.
+    mm->clearTextures();
+    mm->addTexture(texture.name.toStdString(), texture.image);
+
+    for (const std::string& line : adapter::reportLines(run, stored.metrics))
+      log("%s", line.c_str());
+    log("texture %s", qUtf8Printable(texture.path));
+    if (cb != nullptr) cb(100, "done");
+
+    const adapter::ReportValues r = adapter::reportValues(run, stored.metrics);
+    return {
+        {"l2_stretch", QVariant(r.l2_stretch)},       {"linf_stretch", QVariant(r.linf_stretch)},
+        {"flipped_faces", QVariant(r.flipped_faces)}, {"fallbacks", QVariant(r.fallbacks)},
+        {"source_vertex", QVariant(r.source_vertex)}, {"seconds", QVariant(r.seconds)},
+    };
+  } catch (const MLException&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    reason = "not enough memory";
+  } catch (const std::exception& e) {
+    reason = e.what();
+  } catch (...) {
+    reason = "unknown error";
+  }
+  log(GLLogStream::WARNING, "%s: %s", sdp::filter::kFilterName, reason.c_str());
+  throw MLException(QString::fromStdString(reason));
+}
+
+MESHLAB_PLUGIN_NAME_EXPORTER(FilterStraightestParamPlugin)

@@ -1,0 +1,33 @@
+// MeshLab 2025.07 shim (pymeshlab 2025.7, and the MeshLab 2025.07 GUI): a thin FilterPlugin over
+// the shared filter description and the core. pymeshlab exposes it as
+// MeshSet.compute_texcoord_parametrization_straightest_distances(...) returning the report dict.
+#pragma once
+
+#include <common/plugins/interfaces/filter_plugin.h>
+#include <QObject>
+
+class FilterStraightestParamPlugin : public QObject, public FilterPlugin {
+  Q_OBJECT
+  MESHLAB_PLUGIN_IID_EXPORTER(FILTER_PLUGIN_IID)
+  Q_INTERFACES(FilterPlugin)
+
+ public:
+  enum { FP_STRAIGHTEST_PARAM };
+
+  FilterStraightestParamPlugin();
+
+  QString pluginName() const override;
+  QString vendor() const override;
+  QString filterName(ActionIDType filter) const override;
+  QString pythonFilterName(ActionIDType filter) const override;
+  QString filterInfo(ActionIDType filter) const override;
+  FilterClass getClass(const QAction* action) const override;
+  int getPreConditions(const QAction* action) const override;
+  int postCondition(const QAction* action) const override;
+  FilterArity filterArity(const QAction* action) const override;
+  RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;
+  std::map<std::string, QVariant> applyFilter(const QAction* action,
+                                              const RichParameterList& parameters, MeshDocument& md,
+                                              unsigned int& postConditionMask,
+                                              vcg::CallBackPos* cb) override;
+};

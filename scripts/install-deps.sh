@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Installs everything the project needs on a fresh Debian 12 (bookworm), as root; safe to re-run:
+#   - Debian packages: build tools, Qt5, Eigen, GoogleTest, CGAL, MeshLab 2020.09 (GUI +
+#     meshlabserver), Xvfb and X tools for the headless MeshLab tests, ImageMagick for screenshots;
+#   - the MeshLab 2020.09 / 2025.07 sources whose headers the plugins compile against
+#     (scripts/fetch-meshlab-sources.sh);
+#   - .venv/ with pymeshlab 2025.07 (the MeshLab the 2025.07 plugin runs in), pytest and numpy.
+#
+#   SDP_SKIP_APT=1     skip the Debian packages (e.g. when not root and they are already there)
+#   SDP_VENV_DIR=DIR   virtual environment folder (default: <repo>/.venv)
+set -euo pipefail
+
+repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+venv_dir="${SDP_VENV_DIR:-$repo_dir/.venv}"
+
+debian_packages=(
+  build-essential cmake git pkg-config ca-certificates xz-utils
+  python3 python3-venv python3-pip
+  qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
+  libgtest-dev libcgal-dev zlib1g-dev clang-format
+  meshlab
+  xvfb xauth xdotool x11-utils imagemagick
+)
+python_requirements=("pymeshlab==2025.7.post1" "pytest" "numpy")
+
+missing_packages() {
+  local pkg
+  for pkg in "${debian_packages[@]}"; do
+    dpkg-query -W -f='${Status}\n' "$pkg" 2>/dev/null | grep -q '^install ok installed$' || echo "$pkg"
+  done
+}
+
+if [[ "${SDP_SKIP_APT:-0}" != 1 ]]; then
+  mapfile -t missing < <(missing_packages)
+  if ((${#missing[@]})); then
+    if [[ $(id -u) -ne 0 ]]; then
+      echo "install-deps: missing Debian packages (run as root): ${missing[*]}" >&2
+      exit 1
+    fi
+    echo "install-deps: installing ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update
+    apt-get install -y --no-install-recommends "${missing[@]}"
+  else
+    echo "install-deps: Debian packages already installed"
+  fi
+fi
+
+"$repo_dir/scripts/fetch-meshlab-sources.sh"
+
+# Debian's own python3 (not a pyenv/conda one first in PATH): python3-venv is installed for it.
+python=/usr/bin/python3
+[[ -x "$python" ]] || python=$(command -v python3)
+if [[ ! -x "$venv_dir/bin/python" ]]; then
+  echo "install-deps: creating $venv_dir"
+  "$python" -m venv "$venv_dir"
+fi
+if "$venv_dir/bin/python" - "${python_requirements[@]}" <<'PY'
+import sys
+from importlib.metadata import version, PackageNotFoundError
+for requirement in sys.argv[1:]:
+    name, _, wanted = requirement.partition("==")
+    try:
+        have = version(name)
+    except PackageNotFoundError:
+        sys.exit(1)
+    if wanted and have != wanted:
+        sys.exit(1)
+PY
+then
+  echo "install-deps: python packages already installed in $venv_dir"
+else
+  "$venv_dir/bin/python" -m pip install --disable-pip-version-check "${python_requirements[@]}"
+fi
+echo "install-deps: done"

@@ -1,0 +1,41 @@
+"""pymeshlab 2025.7 with our 2025.07 plugin loaded, and the shared meshes.
+
+Environment (set by ctest, see tests/meshlab/CMakeLists.txt):
+  SDP_PLUGIN_2025      the built plugin (default: <repo>/build/plugins/meshlab-2025.07/...)
+  SDP_SHARED_DIR       folder with meshes/{disk,invalid} (default: <repo>/../shared)
+  SDP_REPORT_DIR       where the peer comparison table goes (default: <repo>/build/reports)
+"""
+import os
+import pathlib
+
+import pytest
+
+FILTER = "compute_texcoord_parametrization_straightest_distances"
+REPO = pathlib.Path(__file__).resolve().parents[2]
+SHARED = pathlib.Path(os.environ.get("SDP_SHARED_DIR", REPO.parent / "shared"))
+PLUGIN = pathlib.Path(os.environ.get(
+    "SDP_PLUGIN_2025", REPO / "build/plugins/meshlab-2025.07/libfilter_straightest_param.so"))
+REPORT_DIR = pathlib.Path(os.environ.get("SDP_REPORT_DIR", REPO / "build/reports"))
+
+DISK_MESHES = sorted((SHARED / "meshes/disk").glob("*.off"))
+INVALID_MESHES = sorted((SHARED / "meshes/invalid").glob("*.off"))
+# Labels exactly as SPEC.md section 6 (pymeshlab takes enum values by label).
+WEIGHTS = ["Straightest distances (cutting planes)", "LTD straightest geodesics",
+           "Floater shape-preserving", "Mean value", "Uniform"]
+BOUNDARIES = {"measured": "Measured (straightest distances)", "circle": "Circle",
+              "square": "Square"}
+
+
+@pytest.fixture(scope="session")
+def ml():
+    """The pymeshlab module with our filter loaded and bound as a MeshSet method."""
+    if not PLUGIN.exists():
+        pytest.skip(f"plugin {PLUGIN} not built")
+    import pymeshlab
+
+    if FILTER not in pymeshlab.filter_list():
+        pymeshlab.load_plugin(str(PLUGIN))
+    # pymeshlab binds MeshSet methods only for the plugins present at import time.
+    if not hasattr(pymeshlab.MeshSet, FILTER):
+        setattr(pymeshlab.MeshSet, FILTER, pymeshlab.bind_function(FILTER))
+    return pymeshlab

@@ -1,0 +1,264 @@
+// vcglib mesh <-> core (DESIGN.md: MeshLab -> adapter -> core -> adapter -> MeshLab).
+// Header-only templates on the vcg mesh type, so the same code compiles against the vcglib of
+// MeshLab 2020.09 and of 2025.07. No Qt, no MeshLab: the shims add those parts.
+//
+// extractPatch() and prepareResult() read; applyResult() is the only function that writes, and
+// the shims call it only after the core and prepareResult() succeeded, so a failed run leaves
+// the mesh exactly as it was.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <vcg/complex/complex.h>
+
+#include "filter_straightest_param/core/metrics.h"
+#include "filter_straightest_param/core/parameterize.h"
+#include "filter_straightest_param/core/patch.h"
+
+namespace sdp::vcg_adapter {
+
+// The core's input plus the index maps between the core's compact numbering and the positions
+// in the vcg containers (which may hold deleted elements). Core vertices keep the mesh order, so
+// on a mesh without deleted or unreferenced vertices both numberings agree.
+struct PatchInput {
+  sdp::Positions positions;
+  sdp::Triangles triangles;
+  std::vector<int> mesh_vertex;  // core vertex -> index in mesh.vert
+  std::vector<int> core_vertex;  // index in mesh.vert -> core vertex, -1 when not in the patch
+  std::vector<int> mesh_face;    // core face -> index in mesh.face
+
+  // -1 when the mesh vertex is not part of the patch (deleted, unreferenced or unselected).
+  int coreVertexOf(int mesh_index) const {
+    if (mesh_index < 0 || mesh_index >= static_cast<int>(core_vertex.size())) return -1;
+    return core_vertex[mesh_index];
+  }
+  int meshVertexOf(int core_index) const {
+    if (core_index < 0 || core_index >= static_cast<int>(mesh_vertex.size())) return -1;
+    return mesh_vertex[core_index];
+  }
+};
+
+// Live (non-deleted) faces, or only the selected ones, and the vertices they use. Coordinates are
+// copied as they are: a NaN reaches the core, which rejects it with its own one-line reason.
+template <class MeshType>
+PatchInput extractPatch(const MeshType& mesh, bool selected_faces_only) {
+  PatchInput in;
+  const int vertex_count = static_cast<int>(mesh.vert.size());
+  const auto* first_vertex = vertex_count > 0 ? &mesh.vert[0] : nullptr;
+
+  std::vector<char> used(vertex_count, 0);
+  for (int fi = 0; fi < static_cast<int>(mesh.face.size()); ++fi) {
+    const auto& f = mesh.face[fi];
+    if (f.IsD() || (selected_faces_only && !f.IsS())) continue;
+    bool valid = true;
+    for (int k = 0; k < 3; ++k) {
+      const auto* v = f.cV(k);
+      valid = valid && v != nullptr && !v->IsD();
+    }
+    if (!valid) continue;  // a face on a deleted vertex is garbage, not geometry
+    in.mesh_face.push_back(fi);
+    for (int k = 0; k < 3; ++k) used[f.cV(k) - first_vertex] = 1;
+  }
+  if (in.mesh_face.empty()) {
+    throw sdp::ParameterizationError(selected_faces_only ? "no faces are selected"
+                                                         : "the mesh has no faces");
+  }
+
+  in.core_vertex.assign(vertex_count, -1);
+  for (int vi = 0; vi < vertex_count; ++vi) {
+    if (!used[vi]) continue;
+    in.core_vertex[vi] = static_cast<int>(in.mesh_vertex.size());
+    in.mesh_vertex.push_back(vi);
+  }
+
+  in.positions.resize(static_cast<Eigen::Index>(in.mesh_vertex.size()), 3);
+  for (size_t i = 0; i < in.mesh_vertex.size(); ++i) {
+    const auto& p = mesh.vert[in.mesh_vertex[i]].cP();
+    for (int c = 0; c < 3; ++c) in.positions(i, c) = static_cast<double>(p[c]);
+  }
+  in.triangles.resize(static_cast<Eigen::Index>(in.mesh_face.size()), 3);
+  for (size_t i = 0; i < in.mesh_face.size(); ++i) {
+    const auto& f = mesh.face[in.mesh_face[i]];
+    for (int k = 0; k < 3; ++k) {
+      in.triangles(i, k) = in.core_vertex[f.cV(k) - first_vertex];
+    }
+  }
+  return in;
+}
+
+// The mesh index of the only selected live vertex, or -1 when none or several are selected
+// (a single selected vertex picks the source S of the measured boundary in MeshLab).
+template <class MeshType>
+int singleSelectedVertex(const MeshType& mesh) {
+  int found = -1;
+  for (int vi = 0; vi < static_cast<int>(mesh.vert.size()); ++vi) {
+    const auto& v = mesh.vert[vi];
+    if (v.IsD() || !v.IsS()) continue;
+    if (found != -1) return -1;
+    found = vi;
+  }
+  return found;
+}
+
+struct WriteOptions {
+  bool wedge_texcoords = true;    // per-wedge UVs (texture index below)
+  bool vertex_texcoords = false;  // also per-vertex UVs
+  bool face_quality = true;       // per-face quality = normalized L2 stretch of the stored face
+  short texture_index = 0;
+  // Scale and move the UVs uniformly into [0,1]^2 so that a texture image covers the patch; a
+  // uniform positive scale changes neither flips nor the normalized stretch metrics.
+  bool fit_unit_square = true;
+};
+
+namespace detail {
+
+// Optional (ocf) components are switched on; meshes with static components already have them.
+template <class Container>
+auto enableWedgeTexCoord(Container& c, int) -> decltype(c.EnableWedgeTexCoord(), void()) {
+  if (!c.IsWedgeTexCoordEnabled()) c.EnableWedgeTexCoord();
+}
+template <class Container>
+void enableWedgeTexCoord(Container&, long) {}
+
+template <class Container>
+auto enableFaceQuality(Container& c, int) -> decltype(c.EnableQuality(), void()) {
+  if (!c.IsQualityEnabled()) c.EnableQuality();
+}
+template <class Container>
+void enableFaceQuality(Container&, long) {}
+
+template <class Container>
+auto enableVertexTexCoord(Container& c, int) -> decltype(c.EnableTexCoord(), void()) {
+  if (!c.IsTexCoordEnabled()) c.EnableTexCoord();
+}
+template <class Container>
+void enableVertexTexCoord(Container&, long) {}
+
+// Uniform scale + offset that puts the patch's UV bounding box centred in [0,1]^2.
+struct UVFit {
+  double scale = 1, offset_u = 0, offset_v = 0;
+};
+
+inline UVFit fitUnitSquare(const PatchInput& in, const sdp::UVs& uv) {
+  double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  double hi[2] = {std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+  for (Eigen::Index i = 0; i < in.triangles.rows(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = in.triangles(i, k);
+      for (int c = 0; c < 2; ++c) {
+        lo[c] = std::min(lo[c], uv(v, c));
+        hi[c] = std::max(hi[c], uv(v, c));
+      }
+    }
+  }
+  const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
+  if (!(extent > 0) || !std::isfinite(extent)) {
+    throw sdp::ParameterizationError("the parameterization has no extent");
+  }
+  UVFit fit;
+  fit.scale = 1.0 / extent;
+  fit.offset_u = 0.5 - 0.5 * (lo[0] + hi[0]) * fit.scale;
+  fit.offset_v = 0.5 - 0.5 * (lo[1] + hi[1]) * fit.scale;
+  return fit;
+}
+
+}  // namespace detail
+
+// Switches on the components applyResult() fills. (MeshLab shims call MeshModel::updateDataMask
+// first, which does the same and also keeps MeshModel's bookkeeping right.)
+template <class MeshType>
+void enableResultComponents(MeshType& mesh, const WriteOptions& options) {
+  if (options.wedge_texcoords) detail::enableWedgeTexCoord(mesh.face, 0);
+  if (options.face_quality) detail::enableFaceQuality(mesh.face, 0);
+  if (options.vertex_texcoords) detail::enableVertexTexCoord(mesh.vert, 0);
+}
+
+// MeshLab stores texture coordinates in single precision even when its scalar is double.
+template <class MeshType>
+using TexScalarOf = typename MeshType::FaceType::TexCoordType::ScalarType;
+
+// The UVs exactly as the mesh will hold them, and their measures. Rounding to single precision
+// can move the tiny triangles of a strongly compressed map enough to change L-infinity (and in
+// the worst case degenerate a face), so the report describes the stored map, not the double one.
+template <class TexScalar>
+struct StoredResult {
+  std::vector<TexScalar> u, v;  // per core vertex, fitted as WriteOptions asks
+  sdp::StretchMetrics metrics;  // of the stored UVs (flips, L2, L-infinity, per-face L2)
+};
+
+// Computes what applyResult() writes, without touching the mesh.
+template <class MeshType>
+StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result,
+                                                  const WriteOptions& options = {}) {
+  if (result.uv.rows() != static_cast<Eigen::Index>(in.mesh_vertex.size())) {
+    throw sdp::ParameterizationError("internal error: the result does not match the patch");
+  }
+  const detail::UVFit fit =
+      options.fit_unit_square ? detail::fitUnitSquare(in, result.uv) : detail::UVFit{};
+  StoredResult<TexScalarOf<MeshType>> stored;
+  const size_t n = in.mesh_vertex.size();
+  stored.u.resize(n);
+  stored.v.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    stored.u[i] = static_cast<TexScalarOf<MeshType>>(result.uv(i, 0) * fit.scale + fit.offset_u);
+    stored.v[i] = static_cast<TexScalarOf<MeshType>>(result.uv(i, 1) * fit.scale + fit.offset_v);
+  }
+
+  // Measured by the core's own metric on its own patch (virtual hole fills, if any, sit after
+  // the real vertices and faces and are not measured).
+  const sdp::Patch patch = sdp::buildPatch(in.positions, in.triangles);
+  std::vector<Eigen::Vector2d> local_uv(patch.vertexCount(), Eigen::Vector2d::Zero());
+  for (int local = 0; local < patch.vertexCount(); ++local) {
+    const int i = patch.input_vertex[local];
+    if (i >= 0 && i < static_cast<int>(n))
+      local_uv[local] = Eigen::Vector2d(stored.u[i], stored.v[i]);
+  }
+  stored.metrics = sdp::stretchMetrics(patch, local_uv);
+  if (stored.metrics.face_l2.size() != in.mesh_face.size()) {
+    throw sdp::ParameterizationError("internal error: the measures do not match the patch");
+  }
+  return stored;
+}
+
+// Copies the prepared UVs and per-face stretch (quality) into the patch's faces (and vertices).
+// Elements outside the patch keep what they had.
+template <class MeshType>
+void applyResult(MeshType& mesh, const PatchInput& in,
+                 const StoredResult<TexScalarOf<MeshType>>& stored,
+                 const WriteOptions& options = {}) {
+  enableResultComponents(mesh, options);
+  if ((options.wedge_texcoords && !vcg::tri::HasPerWedgeTexCoord(mesh)) ||
+      (options.face_quality && !vcg::tri::HasPerFaceQuality(mesh)) ||
+      (options.vertex_texcoords && !vcg::tri::HasPerVertexTexCoord(mesh))) {
+    throw sdp::ParameterizationError("the mesh type cannot store texture coordinates");
+  }
+  for (size_t i = 0; i < in.mesh_face.size(); ++i) {
+    auto& f = mesh.face[in.mesh_face[i]];
+    if (options.wedge_texcoords) {
+      for (int k = 0; k < 3; ++k) {
+        const int v = in.triangles(i, k);
+        f.WT(k).U() = stored.u[v];
+        f.WT(k).V() = stored.v[v];
+        f.WT(k).N() = options.texture_index;
+      }
+    }
+    if (options.face_quality) {
+      f.Q() = static_cast<typename MeshType::FaceType::QualityType>(stored.metrics.face_l2[i]);
+    }
+  }
+  if (options.vertex_texcoords) {
+    for (size_t i = 0; i < in.mesh_vertex.size(); ++i) {
+      auto& t = mesh.vert[in.mesh_vertex[i]].T();
+      t.U() = stored.u[i];
+      t.V() = stored.v[i];
+      t.N() = options.texture_index;
+    }
+  }
+}
+
+}  // namespace sdp::vcg_adapter
