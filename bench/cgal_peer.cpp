@@ -20,8 +20,7 @@
 #include <iostream>
 #include <string>
 
-#include "core/metrics.h"
-#include "core/patch.h"
+#include "core/parameterize.h"
 #include "mesh_io.h"
 #include "midpoint_subdivision.h"
 #include "peak_memory.h"
@@ -77,19 +76,15 @@ int main(int argc, char** argv) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    const sdp::Patch patch = sdp::buildPatch(data.V, data.F);
-    std::vector<Eigen::Vector2d> local(patch.vertexCount());
-    for (int v = 0; v < patch.vertexCount(); ++v) {
-      const auto p = uv[vertex[patch.input_vertex[v]]];
-      local[v] = {p.x(), p.y()};
-    }
-    const sdp::StretchMetrics m = sdp::stretchMetrics(patch, local);
+    sdp::UVs scored(data.V.rows(), 2);
+    for (int v = 0; v < scored.rows(); ++v) scored.row(v) << uv[vertex[v]].x(), uv[vertex[v]].y();
+    const sdp::UVMeasures m = sdp::measureUVs(data.V, data.F, scored);
     std::printf(
         "{\"method\": \"cgal_%s\", \"status\": \"%s\", \"vertices\": %d, \"seconds\": %.6f, "
         "\"l2_stretch\": %.9g, \"linf_stretch\": %.9g, \"flipped_faces\": %d, \"peak_rss_mb\": "
         "%.1f}\n",
         method.c_str(), status == SMP::OK ? "ok" : SMP::get_error_message(status),
-        patch.vertexCount(), seconds, m.l2, m.linf, m.flipped_faces,
+        static_cast<int>(data.V.rows()), seconds, m.l2_stretch, m.linf_stretch, m.flipped_faces,
         sdp::bench::peakRssMegabytes());
     return status == SMP::OK ? 0 : 1;
   } catch (const std::exception& e) {

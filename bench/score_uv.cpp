@@ -5,8 +5,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "core/metrics.h"
-#include "core/patch.h"
+#include "core/parameterize.h"
 #include "mesh_io.h"
 
 int main(int argc, char** argv) {
@@ -17,16 +16,13 @@ int main(int argc, char** argv) {
   try {
     const sdp::io::MeshData data = sdp::io::readMesh(argv[1]);
     std::ifstream in(argv[2]);
-    std::vector<Eigen::Vector2d> uv(data.V.rows());
-    for (auto& p : uv)
-      if (!(in >> p.x() >> p.y())) throw std::runtime_error("too few UV lines");
-    const sdp::Patch patch = sdp::buildPatch(data.V, data.F);
-    std::vector<Eigen::Vector2d> local(patch.vertexCount());
-    for (int v = 0; v < patch.vertexCount(); ++v) local[v] = uv[patch.input_vertex[v]];
-    const sdp::StretchMetrics m = sdp::stretchMetrics(patch, local);
+    sdp::UVs uv(data.V.rows(), 2);
+    for (int v = 0; v < uv.rows(); ++v)
+      if (!(in >> uv(v, 0) >> uv(v, 1))) throw std::runtime_error("too few UV lines");
+    const sdp::UVMeasures m = sdp::measureUVs(data.V, data.F, uv);
     std::printf(
         "{\"vertices\": %d, \"l2_stretch\": %.9g, \"linf_stretch\": %.9g, \"flipped_faces\": %d}\n",
-        patch.vertexCount(), m.l2, m.linf, m.flipped_faces);
+        static_cast<int>(data.V.rows()), m.l2_stretch, m.linf_stretch, m.flipped_faces);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "sdp_score: " << e.what() << "\n";

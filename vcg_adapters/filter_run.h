@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "filter_straightest_param/core/metrics.h"
 #include "filter_straightest_param/core/parameterize.h"
 #include "filter_straightest_param/filter_description.h"
 #include "vcg_adapters/patch_adapter.h"
@@ -88,10 +87,10 @@ struct ReportValues {
   double seconds = 0;
 };
 
-inline ReportValues reportValues(const FilterRun& run, const sdp::StretchMetrics& stored) {
+inline ReportValues reportValues(const FilterRun& run, const sdp::UVMeasures& stored) {
   ReportValues values;
-  values.l2_stretch = stored.l2;
-  values.linf_stretch = stored.linf;
+  values.l2_stretch = stored.l2_stretch;
+  values.linf_stretch = stored.linf_stretch;
   values.flipped_faces = stored.flipped_faces;
   values.fallbacks = run.result.report.fallbacks;
   values.source_vertex = run.source_mesh_vertex;
@@ -100,8 +99,7 @@ inline ReportValues reportValues(const FilterRun& run, const sdp::StretchMetrics
 }
 
 // The log lines: what ran, then the SPEC §6 report values, then remarks and the core's warnings.
-inline std::vector<std::string> reportLines(const FilterRun& run,
-                                            const sdp::StretchMetrics& stored) {
+inline std::vector<std::string> reportLines(const FilterRun& run, const sdp::UVMeasures& stored) {
   const sdp::Report& r = run.result.report;
   const ReportValues values = reportValues(run, stored);
   std::vector<std::string> lines;
@@ -125,7 +123,7 @@ inline std::vector<std::string> reportLines(const FilterRun& run,
         "coordinates (one-to-one in double precision: the map compresses them too much)");
   }
   const double tolerance = 1e-4 * std::max(1.0, r.linf_stretch);
-  if (std::abs(stored.linf - r.linf_stretch) > tolerance) {
+  if (std::abs(stored.linf_stretch - r.linf_stretch) > tolerance) {
     lines.push_back("in double precision before storing: L2 stretch " +
                     formatReportValue("%.4f", r.l2_stretch) + ", Linf stretch " +
                     formatReportValue("%.4f", r.linf_stretch));

@@ -16,9 +16,7 @@
 
 #include <vcg/complex/complex.h>
 
-#include "filter_straightest_param/core/metrics.h"
 #include "filter_straightest_param/core/parameterize.h"
-#include "filter_straightest_param/core/patch.h"
 
 namespace sdp::vcg_adapter {
 
@@ -188,7 +186,7 @@ using TexScalarOf = typename MeshType::FaceType::TexCoordType::ScalarType;
 template <class TexScalar>
 struct StoredResult {
   std::vector<TexScalar> u, v;  // per core vertex, fitted as WriteOptions asks
-  sdp::StretchMetrics metrics;  // of the stored UVs (flips, L2, L-infinity, per-face L2)
+  sdp::UVMeasures metrics;      // of the stored UVs (flips, L2, L-infinity, per-face L2)
 };
 
 // Computes what applyResult() writes, without touching the mesh.
@@ -211,15 +209,10 @@ StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sd
 
   // Measured by the core's own metric on its own patch (virtual hole fills, if any, sit after
   // the real vertices and faces and are not measured).
-  const sdp::Patch patch = sdp::buildPatch(in.positions, in.triangles);
-  std::vector<Eigen::Vector2d> local_uv(patch.vertexCount(), Eigen::Vector2d::Zero());
-  for (int local = 0; local < patch.vertexCount(); ++local) {
-    const int i = patch.input_vertex[local];
-    if (i >= 0 && i < static_cast<int>(n))
-      local_uv[local] = Eigen::Vector2d(stored.u[i], stored.v[i]);
-  }
-  stored.metrics = sdp::stretchMetrics(patch, local_uv);
-  if (stored.metrics.face_l2.size() != in.mesh_face.size()) {
+  sdp::UVs stored_uv(n, 2);
+  for (size_t i = 0; i < n; ++i) stored_uv.row(i) << stored.u[i], stored.v[i];
+  stored.metrics = sdp::measureUVs(in.positions, in.triangles, stored_uv);
+  if (stored.metrics.face_stretch.size() != in.mesh_face.size()) {
     throw sdp::ParameterizationError("internal error: the measures do not match the patch");
   }
   return stored;
@@ -248,7 +241,7 @@ void applyResult(MeshType& mesh, const PatchInput& in,
       }
     }
     if (options.face_quality) {
-      f.Q() = static_cast<typename MeshType::FaceType::QualityType>(stored.metrics.face_l2[i]);
+      f.Q() = static_cast<typename MeshType::FaceType::QualityType>(stored.metrics.face_stretch[i]);
     }
   }
   if (options.vertex_texcoords) {

@@ -77,6 +77,16 @@ void reweightByStretch(const Patch& patch, const std::vector<double>& vertex_l2,
 
 }  // namespace
 
+UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv) {
+  if (uv.rows() != V.rows()) throw ParameterizationError("one UV per vertex is needed");
+  const Patch patch = buildPatch(V, F);
+  LocalUVs local(patch.vertexCount(), Eigen::Vector2d::Zero());
+  for (int v = 0; v < patch.real_vertex_count; ++v)
+    local[v] = uv.row(patch.input_vertex[v]).transpose();
+  const StretchMetrics m = stretchMetrics(patch, local);
+  return {m.l2, m.linf, m.flipped_faces, m.face_l2};
+}
+
 Result parameterize(const Positions& V, const Triangles& F, const Options& options) {
   const auto run_start = Clock::now();
   if (options.stretch_iterations < 0)

@@ -20,6 +20,16 @@ struct Result {
   Report report;
 };
 
+// SPEC §5 measures of any per-vertex UVs on the patch (ours after rounding, or another tool's):
+// the same metric code every report uses. Throws like parameterize() when (V, F) is no patch.
+struct UVMeasures {
+  double l2_stretch = 0;
+  double linf_stretch = 0;
+  int flipped_faces = 0;             // against the layout's majority orientation
+  std::vector<double> face_stretch;  // per input face, normalized L2
+};
+UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv);
+
 // Flattens a disk-shaped patch. Throws ParameterizationError with a one-line reason when the
 // input is not a valid patch, a coordinate is not finite, or no one-to-one map could be made:
 // a returned Result is always one-to-one (report.flipped_faces == 0).

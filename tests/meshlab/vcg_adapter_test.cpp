@@ -99,7 +99,7 @@ TEST(VcgAdapter, RunWritesWedgeUVsQualityAndEnablesComponents) {
   write.vertex_texcoords = true;
   const auto stored = adapter::prepareResult<TestMesh>(run.input, run.result, write);
   EXPECT_EQ(stored.metrics.flipped_faces, 0);
-  EXPECT_NEAR(stored.metrics.l2, run.result.report.l2_stretch, 1e-4);
+  EXPECT_NEAR(stored.metrics.l2_stretch, run.result.report.l2_stretch, 1e-4);
   adapter::applyResult(m, run.input, stored, write);
 
   ASSERT_TRUE(vcg::tri::HasPerWedgeTexCoord(m));
