@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <new>
 #include <string>
 
 #include "boundary.h"
@@ -87,7 +88,24 @@ UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv) {
   return {m.l2, m.linf, m.flipped_faces, m.face_l2};
 }
 
+namespace {
+Result parameterizeChecked(const Positions& V, const Triangles& F, const Options& options);
+}  // namespace
+
 Result parameterize(const Positions& V, const Triangles& F, const Options& options) {
+  // Every failure leaves as the one error type, so front ends print one line and never abort.
+  try {
+    return parameterizeChecked(V, F, options);
+  } catch (const std::bad_alloc&) {
+    throw ParameterizationError("not enough memory to parameterize a mesh of " +
+                                std::to_string(V.rows()) + " vertices and " +
+                                std::to_string(F.rows()) + " faces");
+  }
+}
+
+namespace {
+
+Result parameterizeChecked(const Positions& V, const Triangles& F, const Options& options) {
   const auto run_start = Clock::now();
   if (options.stretch_iterations < 0)
     throw ParameterizationError("stretch iterations must be 0 or more");
@@ -243,5 +261,7 @@ Result parameterize(const Positions& V, const Triangles& F, const Options& optio
   if (options.progress) options.progress("done", 100);
   return result;
 }
+
+}  // namespace
 
 }  // namespace sdp

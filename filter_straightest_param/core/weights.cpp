@@ -1,6 +1,7 @@
 #include "weights.h"
 
 #include <cmath>
+#include <new>
 
 namespace sdp {
 namespace {
@@ -112,25 +113,33 @@ std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, Weig
   std::vector<double> weights(patch.ring_vertex.size(), 0.0);
   const int n = patch.vertexCount();
   int to_ltd = 0, degenerate = 0;
+  // An exception must not leave an OpenMP loop (that terminates), so it is caught per vertex.
+  bool out_of_memory = false;
 #pragma omp parallel reduction(+ : to_ltd, degenerate)
   {
     Ring ring;
 #pragma omp for schedule(static, 1024)
     for (int v = 0; v < n; ++v) {
       if (patch.on_boundary[v]) continue;
-      gatherRing(patch, v, ring);
-      double* w = &weights[patch.ring_begin[v]];
-      int vertex_to_ltd = 0;
-      const bool ok = (scheme == WeightScheme::Uniform || prepareRing(ring)) &&
-                      ringWeights(ring, scheme, w, vertex_to_ltd);
-      if (ok) {
-        to_ltd += vertex_to_ltd;
-      } else {
-        uniformWeights(ring.size(), w);
-        ++degenerate;
+      try {
+        gatherRing(patch, v, ring);
+        double* w = &weights[patch.ring_begin[v]];
+        int vertex_to_ltd = 0;
+        const bool ok = (scheme == WeightScheme::Uniform || prepareRing(ring)) &&
+                        ringWeights(ring, scheme, w, vertex_to_ltd);
+        if (ok) {
+          to_ltd += vertex_to_ltd;
+        } else {
+          uniformWeights(ring.size(), w);
+          ++degenerate;
+        }
+      } catch (const std::bad_alloc&) {
+#pragma omp atomic write
+        out_of_memory = true;
       }
     }
   }
+  if (out_of_memory) throw std::bad_alloc();
   counts.straightest_to_ltd += to_ltd;
   counts.degenerate_rings += degenerate;
   return weights;
