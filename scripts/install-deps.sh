@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything the project needs on a fresh Debian 12 (bookworm), as root; safe to re-run:
-#   - Debian packages: build tools, Qt5, Eigen, GoogleTest, CGAL, MeshLab 2020.09 (GUI +
+#   - Debian packages: build tools (+ clang and its libFuzzer runtime), Qt5, Eigen, GoogleTest,
+#     CGAL (benchmark peers), MeshLab 2020.09 (GUI +
 #     meshlabserver), Xvfb and X tools for the headless MeshLab tests, ImageMagick for screenshots;
 #   - the MeshLab 2020.09 / 2025.07 sources whose headers the plugins compile against
 #     (scripts/fetch-meshlab-sources.sh);
@@ -18,6 +19,7 @@ debian_packages=(
   python3 python3-venv python3-pip
   qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
   libgtest-dev libcgal-dev zlib1g-dev clang-format
+  clang libclang-rt-14-dev
   meshlab
   xvfb xauth xdotool x11-utils imagemagick
 )
