@@ -171,10 +171,15 @@ double planeWalkDistance(const Patch& patch, int source, const Eigen::Vector3d& 
     return Eigen::Vector3d(P[u] + hu / (hu - hw) * (P[w] - P[u]));
   };
 
-  // First face: the ring face of S whose opposite edge the plane crosses towards b.
-  int face = -1, u = -1, w = -1;
-  Eigen::Vector3d x;
-  double best_cosine = -2;
+  // The plane leaves S's ring through (usually) two edges. The one towards b comes first; on a
+  // curved patch its half of the plane curve can meet the boundary elsewhere while the other
+  // half reaches b, so every start is tried, best aligned first.
+  struct Start {
+    double cosine;
+    int face, u, w;
+    Eigen::Vector3d x;
+  };
+  std::vector<Start> starts;
   for (int k = patch.ring_begin[source]; k < patch.ring_begin[source + 1]; ++k) {
     const int f = patch.ring_face[k];
     if (f < 0) continue;
@@ -185,30 +190,34 @@ double planeWalkDistance(const Patch& patch, int source, const Eigen::Vector3d& 
     const Eigen::Vector3d y = crossing(a, c);
     const double len = (y - S).norm();
     if (!(len > 0)) continue;
-    const double cosine = (y - S).dot(t) / len;
-    if (cosine > best_cosine) best_cosine = cosine, face = f, u = a, w = c, x = y;
+    starts.push_back({(y - S).dot(t) / len, f, a, c, y});
   }
-  if (face < 0 || best_cosine <= 0) return -1;
-  double length = (x - S).norm();
-  for (int step = 0; step <= patch.faceCount(); ++step) {
-    if (u == b || w == b) return length + (B - x).norm();  // the plane contains b: arrived
-    const auto& tri = patch.face[face];
-    int slot = 0;
-    while (!((tri[slot] == u && tri[(slot + 1) % 3] == w) ||
-             (tri[slot] == w && tri[(slot + 1) % 3] == u)))
-      ++slot;
-    const int next = patch.face_across[face][slot];
-    if (next < 0) return -1;  // left the patch elsewhere than at b
-    const auto& nt = patch.face[next];
-    const int z = nt[0] != u && nt[0] != w ? nt[0] : (nt[1] != u && nt[1] != w ? nt[1] : nt[2]);
-    if (above(z) == above(u))
-      u = z;
-    else
-      w = z;
-    const Eigen::Vector3d y = crossing(u, w);
-    length += (y - x).norm();
-    x = y;
-    face = next;
+  std::sort(starts.begin(), starts.end(),
+            [](const Start& p, const Start& q) { return p.cosine > q.cosine; });
+  for (const Start& start : starts) {
+    int face = start.face, u = start.u, w = start.w;
+    Eigen::Vector3d x = start.x;
+    double length = (x - S).norm();
+    for (int step = 0; step <= patch.faceCount(); ++step) {
+      if (u == b || w == b) return length + (B - x).norm();  // the plane contains b: arrived
+      const auto& tri = patch.face[face];
+      int slot = 0;
+      while (!((tri[slot] == u && tri[(slot + 1) % 3] == w) ||
+               (tri[slot] == w && tri[(slot + 1) % 3] == u)))
+        ++slot;
+      const int next = patch.face_across[face][slot];
+      if (next < 0) break;  // left the patch elsewhere than at b
+      const auto& nt = patch.face[next];
+      const int z = nt[0] != u && nt[0] != w ? nt[0] : (nt[1] != u && nt[1] != w ? nt[1] : nt[2]);
+      if (above(z) == above(u))
+        u = z;
+      else
+        w = z;
+      const Eigen::Vector3d y = crossing(u, w);
+      length += (y - x).norm();
+      x = y;
+      face = next;
+    }
   }
   return -1;
 }
