@@ -6,6 +6,7 @@
 #include <numeric>
 #include <queue>
 
+#include "metrics.h"
 #include "straightest.h"
 #include "weights.h"
 
@@ -59,6 +60,32 @@ std::vector<double> cappedGaps(std::vector<double> gap, double cap) {
 }
 
 }  // namespace
+
+double earStretch(const Patch& patch, const Polygon& polygon) {
+  const auto& loop = patch.boundary_loop;
+  std::vector<int> position(patch.vertexCount(), -1);
+  for (size_t k = 0; k < loop.size(); ++k) position[loop[k]] = static_cast<int>(k);
+  double mesh_area = 0;
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    const auto& t = patch.face[f];
+    mesh_area += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
+                           .cross(patch.position[t[2]] - patch.position[t[0]])
+                           .norm();
+  }
+  const double scale = std::sqrt(mesh_area / std::abs(polygonArea(polygon)));
+  double weighted = 0, area = 0;
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    const auto& t = patch.face[f];
+    if (position[t[0]] < 0 || position[t[1]] < 0 || position[t[2]] < 0) continue;
+    const Eigen::Vector3d q[3] = {patch.position[t[0]], patch.position[t[1]], patch.position[t[2]]};
+    const Eigen::Vector2d p[3] = {scale * polygon[position[t[0]]], scale * polygon[position[t[1]]],
+                                  scale * polygon[position[t[2]]]};
+    const FaceStretch s = faceStretch(q, p);
+    weighted += s.l2 * s.l2 * s.area3d;
+    area += s.area3d;
+  }
+  return area > 0 ? std::sqrt(weighted / area) : 0.0;
+}
 
 double polygonArea(const Polygon& polygon) {
   double twice = 0;
@@ -222,7 +249,24 @@ double planeWalkDistance(const Patch& patch, int source, const Eigen::Vector3d& 
   return -1;
 }
 
-Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& spacing) {
+std::vector<std::pair<int, int>> dividingEdges(const Patch& patch) {
+  const auto& loop = patch.boundary_loop;
+  const int n = static_cast<int>(loop.size());
+  std::vector<int> position(patch.vertexCount(), -1);
+  for (int k = 0; k < n; ++k) position[loop[k]] = k;
+  std::vector<std::pair<int, int>> edges;
+  for (int k = 0; k < n; ++k) {
+    const int v = loop[k];
+    for (int r = patch.ring_begin[v]; r < patch.ring_begin[v + 1]; ++r) {
+      const int m = position[patch.ring_vertex[r]];
+      if (m > k && m != k + 1 && !(k == 0 && m == n - 1)) edges.emplace_back(k, m);
+    }
+  }
+  return edges;
+}
+
+Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& spacing,
+                           const std::vector<std::pair<int, int>>& dividing_edges) {
   const int n = static_cast<int>(polygon.size());
   // Andrew's monotone chain; collinear points are not hull vertices.
   std::vector<int> order(n);
@@ -272,6 +316,25 @@ Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& sp
       }
   }
   const int m = static_cast<int>(corners.size());
+  // Side c runs from corners[c] to corners[c+1]; a dividing edge with both ends on one side
+  // (corners included) asks that side for room.
+  std::vector<int> side_of(n);
+  for (int c = 0; c < m; ++c)
+    for (int k = corners[c]; k != corners[(c + 1) % m]; k = (k + 1) % n) side_of[k] = c;
+  std::vector<char> is_corner(n, 0);
+  for (int k : corners) is_corner[k] = 1;
+  std::vector<char> needs_room(m, 0);
+  auto onSide = [&](int k, int c) {
+    return side_of[k] == c || (is_corner[k] && side_of[k] == (c + 1) % m);
+  };
+  for (const auto& [a, b] : dividing_edges) {
+    const int sa = side_of[a];
+    if (onSide(b, sa)) needs_room[sa] = 1;
+    if (is_corner[a]) {  // a corner also ends the previous side
+      const int prev = (sa + m - 1) % m;
+      if (onSide(b, prev)) needs_room[prev] = 1;
+    }
+  }
   Polygon result(polygon);
   for (int c = 0; c < m; ++c) {
     const int from = corners[c], to = corners[(c + 1) % m];
@@ -280,9 +343,11 @@ Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& sp
     const double L = ab.norm();
     const Eigen::Vector2d outward(ab.y() / L, -ab.x() / L);
     // A parabolic bulge of height eps * L: its end tangents turn by atan(4 eps), kept below a
-    // third of the hull's turn at either end so the corners stay strictly convex. It only has
-    // to make straight runs strictly convex, so it stays tiny (1e-4 of the side at most).
-    const double eps = std::min(1e-4, std::tan(std::min(turn[c], turn[(c + 1) % m]) / 3) / 4);
+    // third of the hull's turn at either end so the corners stay strictly convex. Tiny where it
+    // only has to make a straight run strictly convex (a planar patch stays isometric), larger
+    // where a dividing edge would otherwise flatten triangles on this side.
+    const double cap = needs_room[c] ? 0.05 : 1e-4;
+    const double eps = std::min(cap, std::tan(std::min(turn[c], turn[(c + 1) % m]) / 3) / 4);
     double total = 0;
     for (int k = from; k != to; k = (k + 1) % n) total += spacing[k];
     double run = spacing[from];
@@ -334,7 +399,7 @@ Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts)
     polar[k] = radius[k] * Eigen::Vector2d(std::cos(phi), std::sin(phi));
     phi += gap[k];
   }
-  Polygon convex = makeStrictlyConvex(polar, boundarySpacing(patch));
+  Polygon convex = makeStrictlyConvex(polar, boundarySpacing(patch), dividingEdges(patch));
   if (convex.empty()) return {};
   double area3d = 0;
   for (int f = 0; f < patch.real_face_count; ++f) {

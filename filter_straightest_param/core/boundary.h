@@ -41,11 +41,23 @@ double planeWalkDistance(const Patch& patch, int source, const Eigen::Vector3d& 
 // base plane at S, straightest distances as radii, made strictly convex, scaled to the mesh area.
 Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts);
 
+// Pairs of boundary positions joined by an interior mesh edge (a "dividing edge"; an ear's
+// third side is one). On a straight stretch of a convex boundary such an edge makes degenerate
+// triangles, so the stretch must bulge visibly there.
+std::vector<std::pair<int, int>> dividingEdges(const Patch& patch);
+
 // Makes a polygon that is star-shaped around the origin strictly convex, keeping the vertex
-// order: hull vertices stay, the others move onto a slightly bulging arc between their hull
-// neighbours, spaced by `spacing` (e.g. 3D boundary edge lengths; spacing[k] is the length from
-// vertex k to k+1).
-Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& spacing);
+// order: hull vertices stay, the others move onto a bulging arc between their hull neighbours,
+// spaced by `spacing` (e.g. 3D boundary edge lengths; spacing[k] is the length from vertex k to
+// k+1). The bulge is tiny (1e-4 of the side) unless a dividing edge lies within that side, then
+// as large as convexity at the corners allows (at most 5% of the side).
+Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& spacing,
+                           const std::vector<std::pair<int, int>>& dividing_edges = {});
+
+// Stretch of the ears -- faces whose three corners are all on the boundary, so the boundary
+// polygon alone decides their shape -- as the area-weighted L2 of SPEC §5 with the polygon scaled
+// to the mesh's area. 0 when the patch has no ear. Lets a polygon be judged before any solve.
+double earStretch(const Patch& patch, const Polygon& polygon);
 
 // Signed area (positive when counter-clockwise).
 double polygonArea(const Polygon& polygon);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <new>
 #include <string>
 
@@ -152,6 +153,17 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
       const int boundary_vertices = static_cast<int>(patch.boundary_loop.size());
       if (boundary.empty()) {
         fallBackToCircle("the measured boundary could not be made convex");
+      } else if (const double ears = earStretch(patch, boundary),
+                 circle_ears = earStretch(patch, circleBoundary(patch));
+                 ears > 4 * std::max(circle_ears, 1.0)) {
+        // Faces with all corners on the boundary are shaped by the polygon alone; where the
+        // convex hull straightened a stretch, they are crushed flat (beetle.off).
+        char numbers[96];
+        std::snprintf(numbers, sizeof numbers, "%.3g (circle: %.3g)", ears, circle_ears);
+        fallBackToCircle(
+            std::string("the measured polygon crushes the faces lying on the boundary, "
+                        "their stretch ") +
+            numbers);
       } else if (4 * failed > boundary_vertices) {
         // Most cutting planes never reached their boundary vertex (a strongly curved patch seen
         // from S): the polygon would be measured mostly by another rule, so it is not trusted.
