@@ -19,6 +19,8 @@ import subprocess
 import sys
 import tempfile
 
+import numpy as np
+
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SHARED = pathlib.Path(os.environ.get("SDP_SHARED_DIR", REPO.parent / "shared"))
 RESULTS = REPO / "bench" / "results"
@@ -166,6 +168,84 @@ def table1(rows, meshes):
     return "\n".join(lines)
 
 
+def source_rules(bench, meshes):
+    """Issue: which automatic source vertex S gives the lower stretch (measured boundary)."""
+    lines = ["| mesh | farthest from boundary: L2 (boundary used, walk fallbacks) | "
+             "nearest boundary centroid: L2 (boundary used, walk fallbacks) | better |", "|---|---|---|---|"]
+    wins = {"farthest": 0, "centroid": 0, "tie": 0}
+    for name in meshes:
+        mesh = SHARED / "meshes/disk" / f"{name}.off"
+        cells, l2 = [], {}
+        for rule in ["farthest", "centroid"]:
+            r = bench.ours(mesh, source_rule=rule)
+            l2[rule] = r["l2_stretch"]
+            cells.append(f"{fmt(r['l2_stretch'])} ({r['boundary_used']}, {r['fallback_counts']['walk_fallbacks']})")
+        better = "tie" if abs(l2["farthest"] - l2["centroid"]) < 1e-6 else min(l2, key=l2.get)
+        wins[better] += 1
+        lines.append(f"| {name} | " + " | ".join(cells) + f" | {better} |")
+    lines.append("")
+    lines.append(f"farthest better on {wins['farthest']}, centroid better on {wins['centroid']}, "
+                 f"tie on {wins['tie']} of {len(meshes)} meshes; the default is the farthest rule.")
+    return "\n".join(lines)
+
+
+def refinement(rows, meshes):
+    by = {(r["mesh"], r["method"]): r for r in rows}
+    lines = [f"| mesh | L2, K=0 | L2, K={REFINE_ITERATIONS} | L2 change | excess (L2−1) change | "
+             f"L∞, K=0 | L∞, K={REFINE_ITERATIONS} | s, K=0 | s, K={REFINE_ITERATIONS} | flipped |",
+             "|---|" + "---|" * 9]
+    l2_changes, excess_changes = [], []
+    for name in meshes:
+        a = by[(name, "ours straightest/measured")]
+        b = by[(name, f"ours straightest/measured K={REFINE_ITERATIONS}")]
+        change = b["l2"] / a["l2"] - 1
+        excess = (b["l2"] - 1) / (a["l2"] - 1) - 1 if a["l2"] - 1 > 1e-3 else None
+        l2_changes.append(change)
+        if excess is not None:
+            excess_changes.append(excess)
+        lines.append(f"| {name} | {fmt(a['l2'])} | {fmt(b['l2'])} | {change:+.1%} | "
+                     f"{'–' if excess is None else f'{excess:+.1%}'} | {fmt(a['linf'], 2)} | "
+                     f"{fmt(b['linf'], 2)} | {fmt(a['seconds'], 3)} | {fmt(b['seconds'], 3)} | {b['flipped']} |")
+    lines.append("")
+    lines.append(f"Mean L2 change {np.mean(l2_changes):+.1%}; mean change of the excess stretch "
+                 f"(L2 − 1, meshes not already isometric) {np.mean(excess_changes):+.1%}.")
+    return "\n".join(lines)
+
+
+def holes(bench):
+    lines = ["| mesh | boundary | vertices | holes filled | L2 | L∞ | flipped | s |", "|---|---|---|---|---|---|---|---|"]
+    for name in ["beetle", "halftunnel_quads"]:
+        mesh = SHARED / "meshes/holes" / f"{name}.off"
+        for b in BOUNDARIES:
+            r = bench.ours(mesh, boundary=b)
+            if "error" in r:
+                lines.append(f"| {name} | {b} | – | – | failed: {' '.join(r['error'])} | | | |")
+                continue
+            lines.append(f"| {name} | {b} ({r['boundary_used']}) | {r['vertices']:,} | {r['holes_filled']} | "
+                         f"{fmt(r['l2_stretch'])} | {fmt(r['linf_stretch'], 2)} | {r['flipped_faces']} | "
+                         f"{fmt(r['seconds'], 3)} |")
+    return "\n".join(lines)
+
+
+def renders(bench, folder):
+    """Checkerboard, stretch map and layout of a few meshes, drawn from the CLI's own output."""
+    cases = [("nefertiti", []), ("lilium", []), ("face", []),
+             ("face", ["--stretch-iterations", str(REFINE_ITERATIONS)])]
+    lines = []
+    for name, extra in cases:
+        mesh = SHARED / "meshes/disk" / f"{name}.off"
+        tag = name + ("_refined" if extra else "")
+        obj = pathlib.Path(folder) / f"{tag}.obj"
+        report = json.loads(subprocess.run([bench.bin / "straightest_param", mesh, obj, *extra],
+                                           check=True, capture_output=True, text=True).stdout)
+        png = RESULTS / f"render_{tag}.png"
+        title = (f"{name}: straightest + measured" + (f", {REFINE_ITERATIONS} stretch iterations" if extra else "") +
+                 f" — L2 {report['l2_stretch']:.3f}, L∞ {report['linf_stretch']:.2f}, 0 flipped")
+        subprocess.run([sys.executable, REPO / "bench/render.py", obj, png, "--title", title], check=True)
+        lines.append(f"![{tag}](bench/results/{png.name})")
+    return "\n\n".join(lines)
+
+
 def scaling(bench, quick, full, folder):
     """face.off subdivided 0..3 times (26k .. 1.65M vertices), plus lilium x4 (~867k)."""
     cases = [("face", k) for k in ([0, 1] if quick else [0, 1, 2, 3])]
@@ -258,20 +338,22 @@ def main():
 
     rows = quality(bench, meshes)
     write_csv(RESULTS / "quality.csv", rows)
-    quality_md = quality_markdown(rows, meshes)
-    table1_md = table1(rows, meshes)
+    blocks = {"quality": quality_markdown(rows, meshes), "table1": table1(rows, meshes),
+              "refinement": refinement(rows, meshes), "source": source_rules(bench, meshes),
+              "holes": holes(bench)}
     with tempfile.TemporaryDirectory() as folder:
+        blocks["renders"] = renders(bench, folder)
         scale_rows = scaling(bench, args.quick, args.full, folder)
     write_csv(RESULTS / "scaling.csv", scale_rows)
-    scaling_md = scaling_markdown(scale_rows)
+    blocks["scaling"] = scaling_markdown(scale_rows)
     plot(scale_rows, RESULTS / "scaling.png")
-    for name, body in [("quality", quality_md), ("table1", table1_md), ("scaling", scaling_md)]:
+    for name, body in blocks.items():
         (RESULTS / f"{name}.md").write_text(body + "\n")
         print(f"\n## {name}\n{body}")
     if not args.quick:
         readme = REPO / "README.md"
         text = readme.read_text()
-        for name, body in [("quality", quality_md), ("table1", table1_md), ("scaling", scaling_md)]:
+        for name, body in blocks.items():
             text = replace_block(text, name, body)
         readme.write_text(text)
 

@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
         options.source_rule = sdp::parseSourceRule(value).value();
       else if (key == "--write-off")
         write_off = value;
+      else if (key == "--stretch-exponent")
+        options.stretch_exponent = std::stod(value);
       else
         throw std::runtime_error("unknown option " + key);
     }
