@@ -53,6 +53,8 @@ options:
   --report FILE.json      also write the report to FILE.json
   --checkers N            checkerboard squares per side (default 16)
   --texture-size PX       checkerboard PNG width and height in pixels (default 1024)
+  --natural-scale         write UVs at the solver's scale (measured: area equal to the
+                          mesh's) instead of fitted into [0,1]
   --quiet                 do not print the report
   --help                  show this help
   --version               show the version
@@ -75,6 +77,7 @@ struct Arguments {
   int checkers = 16;
   int texture_size = 1024;
   bool quiet = false;
+  bool natural_scale = false;
 };
 
 std::string lowercaseExtension(const std::string& path) {
@@ -133,6 +136,10 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
     }
     if (arg == "--quiet") {
       args.quiet = true;
+      continue;
+    }
+    if (arg == "--natural-scale") {
+      args.natural_scale = true;
       continue;
     }
     // "--name value" or "--name=value".
@@ -234,6 +241,9 @@ int run(const Arguments& args) {
   }
   std::string json = report.toJson();
   if (json.empty() || json.back() != '\n') json += '\n';
+  // The written texture coordinates span [0,1] so the checkerboard covers the patch once,
+  // unless the caller wants the core's own scale (area-matched for the measured boundary).
+  if (!args.natural_scale) sdp::fitUnitSquare(result.uv, mesh.F);
 
   WrittenFiles written;
   const fs::path out(args.output);

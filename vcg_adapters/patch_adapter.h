@@ -137,34 +137,6 @@ auto enableVertexTexCoord(Container& c, int) -> decltype(c.EnableTexCoord(), voi
 template <class Container>
 void enableVertexTexCoord(Container&, long) {}
 
-// Uniform scale + offset that puts the patch's UV bounding box centred in [0,1]^2.
-struct UVFit {
-  double scale = 1, offset_u = 0, offset_v = 0;
-};
-
-inline UVFit fitUnitSquare(const PatchInput& in, const sdp::UVs& uv) {
-  double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
-  double hi[2] = {std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
-  for (Eigen::Index i = 0; i < in.triangles.rows(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = in.triangles(i, k);
-      for (int c = 0; c < 2; ++c) {
-        lo[c] = std::min(lo[c], uv(v, c));
-        hi[c] = std::max(hi[c], uv(v, c));
-      }
-    }
-  }
-  const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
-  if (!(extent > 0) || !std::isfinite(extent)) {
-    throw sdp::ParameterizationError("the parameterization has no extent");
-  }
-  UVFit fit;
-  fit.scale = 1.0 / extent;
-  fit.offset_u = 0.5 - 0.5 * (lo[0] + hi[0]) * fit.scale;
-  fit.offset_v = 0.5 - 0.5 * (lo[1] + hi[1]) * fit.scale;
-  return fit;
-}
-
 }  // namespace detail
 
 // Switches on the components applyResult() fills. (MeshLab shims call MeshModel::updateDataMask
@@ -196,15 +168,15 @@ StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sd
   if (result.uv.rows() != static_cast<Eigen::Index>(in.mesh_vertex.size())) {
     throw sdp::ParameterizationError("internal error: the result does not match the patch");
   }
-  const detail::UVFit fit =
-      options.fit_unit_square ? detail::fitUnitSquare(in, result.uv) : detail::UVFit{};
+  sdp::UVs fitted = result.uv;
+  if (options.fit_unit_square) sdp::fitUnitSquare(fitted, in.triangles);
   StoredResult<TexScalarOf<MeshType>> stored;
   const size_t n = in.mesh_vertex.size();
   stored.u.resize(n);
   stored.v.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    stored.u[i] = static_cast<TexScalarOf<MeshType>>(result.uv(i, 0) * fit.scale + fit.offset_u);
-    stored.v[i] = static_cast<TexScalarOf<MeshType>>(result.uv(i, 1) * fit.scale + fit.offset_v);
+    stored.u[i] = static_cast<TexScalarOf<MeshType>>(fitted(i, 0));
+    stored.v[i] = static_cast<TexScalarOf<MeshType>>(fitted(i, 1));
   }
 
   // Measured by the core's own metric on its own patch (virtual hole fills, if any, sit after

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <new>
 #include <string>
 
@@ -78,6 +79,21 @@ void reweightByStretch(const Patch& patch, const std::vector<double>& vertex_l2,
 }
 
 }  // namespace
+
+void fitUnitSquare(UVs& uv, const Triangles& F) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high = Eigen::Vector2d::Constant(std::numeric_limits<double>::lowest());
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      low = low.cwiseMin(uv.row(F(f, c)).transpose());
+      high = high.cwiseMax(uv.row(F(f, c)).transpose());
+    }
+  const double extent = (high - low).maxCoeff();
+  if (!(extent > 0) || !std::isfinite(extent))
+    throw ParameterizationError("the parameterization has no extent");
+  const Eigen::RowVector2d centre = (0.5 * (low + high)).transpose();
+  uv = ((uv.rowwise() - centre) / extent).array() + 0.5;
+}
 
 UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv) {
   if (uv.rows() != V.rows()) throw ParameterizationError("one UV per vertex is needed");
