@@ -244,6 +244,17 @@ int run(const Arguments& args) {
   // The written texture coordinates span [0,1] so the checkerboard covers the patch once,
   // unless the caller wants the core's own scale (area-matched for the measured boundary).
   if (!args.natural_scale) sdp::fitUnitSquare(result.uv, mesh.F);
+  if (lowercaseExtension(args.output) == ".ply") {
+    // PLY holds texture coordinates in single precision: a map that is one-to-one in double
+    // can collapse faces there (tiny faces of a strongly compressed map). Never write that.
+    const sdp::UVs rounded = result.uv.cast<float>().cast<double>();
+    const int collapsed = sdp::measureUVs(mesh.V, mesh.F, rounded).flipped_faces;
+    if (collapsed > 0)
+      throw sdp::ParameterizationError(
+          std::to_string(collapsed) +
+          " faces collapse in PLY's single-precision texture coordinates; write OBJ instead "
+          "(full precision)");
+  }
 
   WrittenFiles written;
   const fs::path out(args.output);

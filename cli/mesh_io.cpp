@@ -933,6 +933,12 @@ void putFloat(std::string& out, double value) {
   putLittleEndian32(out, bits);
 }
 
+void putDouble(std::string& out, double value) {
+  uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  for (int b = 0; b < 8; ++b) out.push_back(static_cast<char>((bits >> (8 * b)) & 0xff));
+}
+
 void putBigEndian32(std::string& out, uint32_t value) {
   for (int b = 3; b >= 0; --b) out.push_back(static_cast<char>((value >> (8 * b)) & 0xff));
 }
@@ -1065,12 +1071,14 @@ void writePly(const std::string& path, const Positions& V, const Triangles& F, c
   std::string& data = out.buffer();
   data += "ply\nformat binary_little_endian 1.0\ncomment written by straightest_param\n";
   data += "element vertex " + std::to_string(V.rows()) + "\n";
-  data += "property float x\nproperty float y\nproperty float z\n";
+  // Positions in double (a scan far from the origin keeps its digits); texture coordinates in
+  // float, the only type MeshLab's PLY reader takes for them.
+  data += "property double x\nproperty double y\nproperty double z\n";
   data += "element face " + std::to_string(F.rows()) + "\n";
   data += "property list uchar int vertex_indices\nproperty list uchar float texcoord\n";
   data += "end_header\n";
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
-    for (int axis = 0; axis < 3; ++axis) putFloat(data, V(i, axis));
+    for (int axis = 0; axis < 3; ++axis) putDouble(data, V(i, axis));
     out.maybeFlush();
   }
   for (Eigen::Index f = 0; f < F.rows(); ++f) {

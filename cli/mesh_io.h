@@ -33,7 +33,7 @@ bool isReadableMeshPath(const std::string& path);
 void writeObjWithTexture(const std::string& path, const sdp::Positions& V, const sdp::Triangles& F,
                          const sdp::UVs& uv, const std::string& texture_png_filename);
 
-// Binary little-endian PLY: vertex float x y z; face `list uchar int vertex_indices` and
+// Binary little-endian PLY: vertex double x y z; face `list uchar int vertex_indices` and
 // `list uchar float texcoord` (u0 v0 u1 v1 u2 v2), MeshLab's per-wedge texture coordinates.
 void writePly(const std::string& path, const sdp::Positions& V, const sdp::Triangles& F,
               const sdp::UVs& uv);

@@ -95,7 +95,21 @@ void fitUnitSquare(UVs& uv, const Triangles& F) {
   uv = ((uv.rowwise() - centre) / extent).array() + 0.5;
 }
 
+namespace {
+UVMeasures measureUVsChecked(const Positions& V, const Triangles& F, const UVs& uv);
+}  // namespace
+
 UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv) {
+  try {
+    return measureUVsChecked(V, F, uv);
+  } catch (const std::bad_alloc&) {
+    throw ParameterizationError("not enough memory to measure a mesh of " +
+                                std::to_string(V.rows()) + " vertices");
+  }
+}
+
+namespace {
+UVMeasures measureUVsChecked(const Positions& V, const Triangles& F, const UVs& uv) {
   if (uv.rows() != V.rows()) throw ParameterizationError("one UV per vertex is needed");
   const Patch patch = buildPatch(V, F);
   LocalUVs local(patch.vertexCount(), Eigen::Vector2d::Zero());
@@ -104,6 +118,7 @@ UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv) {
   const StretchMetrics m = stretchMetrics(patch, local);
   return {m.l2, m.linf, m.flipped_faces, m.face_l2};
 }
+}  // namespace
 
 namespace {
 Result parameterizeChecked(const Positions& V, const Triangles& F, const Options& options);
@@ -283,7 +298,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
 
   result.uv = UVs::Zero(V.rows(), 2);
   for (int v = 0; v < patch.real_vertex_count; ++v)
-    result.uv.row(patch.input_vertex[v]) = uv[v].transpose();
+    result.uv.row(patch.input_vertex[v]) = patch.unit * uv[v].transpose();
   result.face_stretch = std::move(metrics.face_l2);
   report.seconds = std::chrono::duration<double>(Clock::now() - run_start).count();
   if (options.progress) options.progress("done", 100);

@@ -56,13 +56,18 @@ Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
   for (int f = 0; f < faces; ++f)
     for (int c = 0; c < 3; ++c) p.face[f][c] = p.local_vertex[F(f, c)];
   const int n = p.vertexCount();
-  // Centre the coordinates: a scan placed far from the origin would otherwise lose digits in
-  // every difference (the results are translation-invariant anyway).
+  // Centre the coordinates and bring the largest extent to 1: a scan far from the origin would
+  // lose digits in every difference, and one in nanometres or light years would underflow or
+  // overflow in areas and products. The results are similarity-invariant anyway.
   {
     Eigen::Vector3d low = p.position[0], high = p.position[0];
     for (const auto& q : p.position) low = low.cwiseMin(q), high = high.cwiseMax(q);
-    const Eigen::Vector3d centre = 0.5 * (low + high);
-    for (auto& q : p.position) q -= centre;
+    const Eigen::Vector3d centre = 0.5 * low + 0.5 * high;
+    const double extent = (0.5 * high - 0.5 * low).maxCoeff() * 2;
+    if (!std::isfinite(extent))
+      fail("the coordinates are too large to compute with (their range overflows)");
+    p.unit = extent > 0 ? extent : 1.0;
+    for (auto& q : p.position) q = (q - centre) / p.unit;
   }
   auto inputName = [&](int local) { return std::to_string(p.input_vertex[local]); };
 
@@ -136,6 +141,9 @@ Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
           if (g >= 0 && !seen[g]) seen[g] = 1, stack.push_back(g);
       }
     }
+    if (components > 1 && components == faces && n == 3 * faces)
+      fail("the mesh has " + std::to_string(components) +
+           " connected components: its faces share no edges (merge duplicate vertices first)");
     if (components > 1)
       fail("the mesh has " + std::to_string(components) +
            " connected components; a patch must be one piece (select one component)");

@@ -10,8 +10,10 @@
 namespace sdp {
 
 struct Patch {
-  // Compacted: only vertices referenced by a face, in input order.
+  // Compacted: only vertices referenced by a face, in input order; centred and divided by
+  // `unit` (the input's largest extent), so every patch has size about 1.
   std::vector<Eigen::Vector3d> position;
+  double unit = 1;
   std::vector<std::array<int, 3>> face;  // local vertex indices, input face order
   std::vector<int> input_vertex;         // local -> input vertex index
   std::vector<int> local_vertex;         // input -> local vertex index, -1 if unreferenced

@@ -1,7 +1,8 @@
 #include "weights.h"
 
+#include "parallel.h"
+
 #include <cmath>
-#include <new>
 
 namespace sdp {
 namespace {
@@ -112,34 +113,27 @@ void gatherRing(const Patch& patch, int v, Ring& ring) {
 std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, WeightCounts& counts) {
   std::vector<double> weights(patch.ring_vertex.size(), 0.0);
   const int n = patch.vertexCount();
-  int to_ltd = 0, degenerate = 0;
-  // An exception must not leave an OpenMP loop (that terminates), so it is caught per vertex.
-  bool out_of_memory = false;
-#pragma omp parallel reduction(+ : to_ltd, degenerate)
-  {
+  std::vector<WeightCounts> per_worker(parallelWorkers());
+  parallelFor(n, 4096, [&](int begin, int end, int worker) {
     Ring ring;
-#pragma omp for schedule(static, 1024)
-    for (int v = 0; v < n; ++v) {
+    WeightCounts& local = per_worker[worker];
+    for (int v = begin; v < end; ++v) {
       if (patch.on_boundary[v]) continue;
-      try {
-        gatherRing(patch, v, ring);
-        double* w = &weights[patch.ring_begin[v]];
-        int vertex_to_ltd = 0;
-        const bool ok = (scheme == WeightScheme::Uniform || prepareRing(ring)) &&
-                        ringWeights(ring, scheme, w, vertex_to_ltd);
-        if (ok) {
-          to_ltd += vertex_to_ltd;
-        } else {
-          uniformWeights(ring.size(), w);
-          ++degenerate;
-        }
-      } catch (const std::bad_alloc&) {
-#pragma omp atomic write
-        out_of_memory = true;
+      gatherRing(patch, v, ring);
+      double* w = &weights[patch.ring_begin[v]];
+      int vertex_to_ltd = 0;
+      const bool ok = (scheme == WeightScheme::Uniform || prepareRing(ring)) &&
+                      ringWeights(ring, scheme, w, vertex_to_ltd);
+      if (ok) {
+        local.straightest_to_ltd += vertex_to_ltd;
+      } else {
+        uniformWeights(ring.size(), w);
+        ++local.degenerate_rings;
       }
     }
-  }
-  if (out_of_memory) throw std::bad_alloc();
+  });
+  int to_ltd = 0, degenerate = 0;
+  for (const auto& c : per_worker) to_ltd += c.straightest_to_ltd, degenerate += c.degenerate_rings;
   counts.straightest_to_ltd += to_ltd;
   counts.degenerate_rings += degenerate;
   return weights;

@@ -606,7 +606,7 @@ TEST_F(TempDirTest, PlyRoundTripKeepsMeshAndPerWedgeTexcoords) {
   EXPECT_EQ(filesInDir(), (std::vector<std::string>{"patch.ply"}));
 
   const MeshData back = sdp::io::readMesh(ply.string());
-  EXPECT_EQ(back.V, m.V.cast<float>().cast<double>());
+  EXPECT_EQ(back.V, m.V);  // positions are written in double
   EXPECT_EQ(back.F, m.F);
 
   const std::string bytes = readFile(ply);
@@ -615,13 +615,13 @@ TEST_F(TempDirTest, PlyRoundTripKeepsMeshAndPerWedgeTexcoords) {
   ASSERT_NE(body, std::string::npos);
   const std::string header = bytes.substr(0, body);
   EXPECT_EQ(header.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
-  EXPECT_NE(header.find("property float x\nproperty float y\nproperty float z\n"),
+  EXPECT_NE(header.find("property double x\nproperty double y\nproperty double z\n"),
             std::string::npos);
   EXPECT_NE(header.find("property list uchar int vertex_indices\n"
                         "property list uchar float texcoord\n"),
             std::string::npos);
-  // Faces follow 5 vertices of 12 bytes: [3][3 x int32][6][6 x float32] each.
-  size_t at = body + end.size() + 5 * 12;
+  // Faces follow 5 vertices of 24 bytes: [3][3 x int32][6][6 x float32] each.
+  size_t at = body + end.size() + 5 * 24;
   ASSERT_EQ(bytes.size(), at + 4 * (1 + 12 + 1 + 24));
   const auto readLe32 = [&](size_t offset) {
     uint32_t bits = 0;

@@ -97,7 +97,8 @@ TEST(Boundary, PlaneWalkFollowsACurvedSurface) {
   const int corner_free = patch.local_vertex[10 * 21 + 20];  // (2, 1): straight along x
   const double walked = planeWalkDistance(patch, source, normal, corner_free);
   // Arc length of z = x^2/2 from 0 to 1: (sqrt(2) + asinh(1)) / 2.
-  EXPECT_NEAR(walked, (std::sqrt(2.0) + std::asinh(1.0)) / 2, 2e-3);
+  // Patch coordinates are scaled by 1 / unit (the largest extent).
+  EXPECT_NEAR(walked * patch.unit, (std::sqrt(2.0) + std::asinh(1.0)) / 2, 2e-3);
 }
 
 TEST(Boundary, MeasuredBoundaryOfAPlanarPatchIsThePatchItself) {
@@ -109,7 +110,8 @@ TEST(Boundary, MeasuredBoundaryOfAPlanarPatchIsThePatchItself) {
   EXPECT_EQ(counts.walk_failures, 0);
   EXPECT_EQ(counts.walk_detours, 0);
   expectStrictlyConvexCounterClockwise(measured);
-  EXPECT_NEAR(polygonArea(measured), 2.0, 1e-9);  // scaled to the 3D area (2 x 1)
+  // Scaled to the 3D area (2 x 1), in patch units (1 / unit).
+  EXPECT_NEAR(polygonArea(measured) * patch.unit * patch.unit, 2.0, 1e-9);
 }
 
 TEST(Boundary, SourceRules) {
