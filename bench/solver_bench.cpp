@@ -1,17 +1,24 @@
 // Solver benchmark: reads a shared mesh, subdivides it k times (1-to-4 midpoint), runs the whole
 // pipeline (per-stage seconds, peak memory beyond the mesh) and then times the interior solve
-// alone with each candidate solver, against the sparse LU answer.
+// alone (circle boundary) with each candidate solver; "max |x - first|" compares with the first
+// candidate's answer.
 //
 //   solver_bench MESH [--subdivide K] [--weights NAME] [--boundary NAME] [--refine N]
 //                [--no-pipeline] [--candidates LIST] [--tolerance T]
+//                [--strength S] [--cycle 1|2] [--power N] [--coarsest N]
 //
-// LIST is comma-separated from: lu, mg (u and v on two threads), mg-lockstep (one thread, u and
-// v together), mg-rebuild (refinement rebuilds the hierarchy), ilut (BiCGSTAB + ILUT), umfpack
-// and lu-metis (when built with SuiteSparse / METIS).
+// LIST is comma-separated from: lu (Eigen SparseLU, the fallback), mg (the default: u and v
+// together on one thread), mg-threads (u and v on two threads), vcycle (the cycle as a stationary
+// iteration, and kernel timings), ilut (BiCGSTAB + ILUT), umfpack and lu-metis (only when built
+// with SuiteSparse / METIS; lu-metis took 30 s on an 11k-vertex mesh). --refine N re-solves N
+// times with stretch-reweighted rows, as the pipeline's refinement does. SDP_DUMP_SYSTEM=FILE
+// writes the system as Matrix Market (FILE) and its right-hand sides (FILE.rhs).
 #include <Eigen/IterativeLinearSolvers>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -19,6 +26,7 @@
 #include <vector>
 
 #include "core/boundary.h"
+#include "core/metrics.h"
 #include "core/parameterize.h"
 #include "core/patch.h"
 #include "core/solve.h"
@@ -121,6 +129,7 @@ int main(int argc, char** argv) {
   bool pipeline = true;
   double tolerance = sdp::SolverSettings{}.tolerance;
   sdp::Options options;
+  sdp::MultigridSettings multigrid_settings;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
@@ -136,6 +145,14 @@ int main(int argc, char** argv) {
       pipeline = false;
     } else if (a == "--candidates") {
       candidates = next();
+    } else if (a == "--strength") {
+      multigrid_settings.strength = std::stod(next());
+    } else if (a == "--cycle") {
+      multigrid_settings.cycle_index = std::stoi(next());
+    } else if (a == "--power") {
+      multigrid_settings.power_iterations = std::stoi(next());
+    } else if (a == "--coarsest") {
+      multigrid_settings.coarsest_size = std::stoi(next());
     } else if (a == "--tolerance") {
       tolerance = std::stod(next());
     } else {
@@ -174,21 +191,36 @@ int main(int argc, char** argv) {
   std::printf("system: %ld unknowns, %ld non-zeros\n", static_cast<long>(system.A.rows()),
               static_cast<long>(system.A.nonZeros()));
 
+  if (const char* dump = std::getenv("SDP_DUMP_SYSTEM")) {
+    std::ofstream out(dump);
+    out << "%%MatrixMarket matrix coordinate real general\n"
+        << system.A.rows() << " " << system.A.cols() << " " << system.A.nonZeros() << "\n";
+    out.precision(17);
+    for (int k = 0; k < system.A.outerSize(); ++k)
+      for (SpMat::InnerIterator it(system.A, k); it; ++it)
+        out << it.row() + 1 << " " << it.col() + 1 << " " << it.value() << "\n";
+    std::ofstream rhs(std::string(dump) + ".rhs");
+    rhs.precision(17);
+    for (int i = 0; i < system.b.rows(); ++i)
+      rhs << system.b(i, 0) << " " << system.b(i, 1) << "\n";
+  }
   Eigen::MatrixX2d reference;
   for (const std::string& name : split(candidates)) {
     resetPeakRss();
     const long long base_kb = procStatusKb("VmRSS:");
     const auto start = Clock::now();
+    const std::clock_t cpu_start = std::clock();
     Eigen::MatrixX2d x;
     std::string detail;
     if (name == "lu" || name.rfind("mg", 0) == 0) {
       sdp::SolverSettings settings;
       settings.tolerance = tolerance;
       settings.method = name == "lu" ? sdp::SolverMethod::Direct : sdp::SolverMethod::Multigrid;
-      settings.parallel_columns = name != "mg-lockstep";
-      settings.rebuild_on_new_weights = name == "mg-rebuild";
+      settings.parallel_columns = name == "mg-threads";
+      settings.multigrid = multigrid_settings;
       sdp::InteriorSolver solver(patch, settings);
-      x = interiorOf(system, solver.solve(weights, boundary));
+      sdp::LocalUVs previous = solver.solve(weights, boundary);
+      x = interiorOf(system, previous);
       const sdp::SolverStats& st = solver.lastStats();
       char line[256];
       std::snprintf(line, sizeof line,
@@ -198,24 +230,90 @@ int main(int argc, char** argv) {
                     st.operator_complexity, double(st.hierarchy_bytes) / system.A.rows(),
                     st.fell_back ? ", FELL BACK" : "");
       detail = line;
-      // Refinement-like re-solves: stretch-reweighted rows on the same pattern.
+      // Refinement re-solves as the pipeline makes them: rows reweighted by the stretch of the
+      // previous map (Yoshizawa-Belyaev-Seidel, a_ij / sigma_j^eta), same pattern.
       std::vector<double> w = weights;
       for (int it = 1; it <= refine; ++it) {
+        const std::vector<double> sigma = sdp::stretchMetrics(patch, previous).vertex_l2;
         for (int v = 0; v < patch.vertexCount(); ++v) {
           if (patch.on_boundary[v]) continue;
           double sum = 0;
           for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k)
-            sum += (w[k] *= 1.0 + 0.5 * std::sin(0.001 * patch.ring_vertex[k] * it));
+            sum += (w[k] /= std::pow(std::max(sigma[patch.ring_vertex[k]], 1e-6),
+                                     options.stretch_exponent));
           for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) w[k] /= sum;
         }
         const auto t = Clock::now();
-        solver.solve(w, boundary);
+        previous = solver.solve(w, boundary);
         const sdp::SolverStats& rs = solver.lastStats();
         std::printf("    re-solve %d: %.3f s, %d iterations, residual %.1e%s%s\n", it,
                     secondsSince(t), rs.iterations, rs.relative_residual,
                     rs.reused_hierarchy ? ", reused hierarchy" : "",
                     rs.fell_back ? ", FELL BACK" : "");
       }
+    } else if (name == "vcycle") {
+      // The V-cycle as a stationary iteration: its convergence factor, column u.
+      sdp::SplitCsr A;
+      A.size = static_cast<int>(system.A.rows());
+      const Eigen::SparseMatrix<double, Eigen::RowMajor> R = system.A;
+      A.lower.begin.push_back(0);
+      A.upper.begin.push_back(0);
+      A.diagonal.assign(A.size, 0.0);
+      for (int i = 0; i < A.size; ++i) {
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, i); it; ++it)
+          if (it.col() == i) {
+            A.diagonal[i] = it.value();
+          } else {
+            sdp::CsrRows& part = it.col() < i ? A.lower : A.upper;
+            part.column.push_back(static_cast<int>(it.col()));
+            part.value.push_back(it.value());
+          }
+        A.lower.begin.push_back(static_cast<int>(A.lower.column.size()));
+        A.upper.begin.push_back(static_cast<int>(A.upper.column.size()));
+      }
+      {
+        Eigen::VectorXd xs = Eigen::VectorXd::Ones(A.size), ys(A.size);
+        for (int rep = 0; rep < 3; ++rep) {
+          const auto t0 = Clock::now();
+          for (int it = 0; it < 10; ++it) sdp::multiply<1>(A, xs.data(), ys.data());
+          std::printf("    fine SpMV %.2f ms\n", secondsSince(t0) * 100);
+        }
+      }
+      sdp::Multigrid mg;
+      const auto t_build = Clock::now();
+      mg.build(A, multigrid_settings);
+      std::printf("    build %.3f s\n", secondsSince(t_build));
+      sdp::MultigridWorkspace work = mg.makeWorkspace(1);
+      for (int l = 0; l < mg.levelCount(); ++l)
+        std::printf("    level %d: %d unknowns, %.2f non-zeros per row\n", l,
+                    mg.levelMatrix(l).size,
+                    double(mg.levelMatrix(l).nonZeros()) / mg.levelMatrix(l).size);
+      Eigen::VectorXd xu = Eigen::VectorXd::Zero(A.size), e(A.size);
+      const Eigen::VectorXd bu = system.b.col(0);
+      double last = bu.norm();
+      {
+        const auto t0 = Clock::now();
+        for (int it = 0; it < 10; ++it) mg.cycle<1>(bu.data(), e.data(), work);
+        std::printf("    cycle %.2f ms\n", secondsSince(t0) * 100);
+        sdp::MultigridWorkspace work2 = mg.makeWorkspace(2);
+        const Eigen::MatrixX2d b2 = system.b;
+        Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> bi = b2, xi(A.size, 2);
+        const auto t1 = Clock::now();
+        for (int it = 0; it < 10; ++it) mg.cycle<2>(bi.data(), xi.data(), work2);
+        std::printf("    cycle on u and v together %.2f ms\n", secondsSince(t1) * 100);
+        const auto t2 = Clock::now();
+        for (int it = 0; it < 10; ++it) sdp::multiply<2>(A, bi.data(), xi.data());
+        std::printf("    SpMV on u and v together %.2f ms\n", secondsSince(t2) * 100);
+      }
+      for (int it = 1; it <= 12; ++it) {
+        const Eigen::VectorXd r = bu - system.A * xu;
+        mg.cycle<1>(r.data(), e.data(), work);
+        xu += e;
+        const double now = (bu - system.A * xu).norm();
+        std::printf("    cycle %2d: residual %.2e factor %.3f\n", it, now / bu.norm(), now / last);
+        last = now;
+      }
+      x = system.b;
     } else if (name == "ilut") {
       Eigen::BiCGSTAB<SpMat, Eigen::IncompleteLUT<double>> solver;
       solver.setTolerance(tolerance);
@@ -240,12 +338,15 @@ int main(int argc, char** argv) {
       continue;
     }
     const double seconds = secondsSince(start);
+    const double cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     const long long peak_kb = procStatusKb("VmHWM:");
     if (reference.size() == 0) reference = x;
     std::printf(
-        "%-12s %7.3f s  residual %.1e  max |x - first| %.1e  peak +%.0f bytes/unknown  %s\n",
-        name.c_str(), seconds, relativeResidual(system, x), (x - reference).cwiseAbs().maxCoeff(),
-        (peak_kb - base_kb) * 1024.0 / system.A.rows(), detail.c_str());
+        "%-12s %7.3f s (cpu %.3f s)  residual %.1e  max |x - first| %.1e  peak +%.0f "
+        "bytes/unknown  %s\n",
+        name.c_str(), seconds, cpu_seconds, relativeResidual(system, x),
+        (x - reference).cwiseAbs().maxCoeff(), (peak_kb - base_kb) * 1024.0 / system.A.rows(),
+        detail.c_str());
     std::fflush(stdout);
   }
   return 0;

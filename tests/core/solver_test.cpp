@@ -1,0 +1,175 @@
+// The interior solver: the multigrid-preconditioned BiCGSTAB gives the sparse LU answer, keeps
+// its hierarchy across calls, and falls back to LU when it does not converge.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "core/boundary.h"
+#include "core/patch.h"
+#include "core/solve.h"
+#include "core/weights.h"
+#include "mesh_io.h"
+#include "test_meshes.h"
+
+namespace sdp {
+namespace {
+
+double maxDifference(const LocalUVs& a, const LocalUVs& b) {
+  double worst = 0;
+  for (size_t v = 0; v < a.size(); ++v)
+    worst = std::max(worst, (a[v] - b[v]).cwiseAbs().maxCoeff());
+  return worst;
+}
+
+SolverSettings method(SolverMethod m) {
+  SolverSettings s;
+  s.method = m;
+  return s;
+}
+
+struct Case {
+  std::string name;
+  test::Mesh mesh;
+  WeightScheme weights;
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> all;
+  all.push_back(
+      {"grid",
+       test::grid(140, 2.0, 1.0, [](double x, double y) { return 0.3 * std::sin(3 * x) * y; }),
+       WeightScheme::MeanValue});
+  for (const char* name : {"camelhead", "face"}) {
+    const io::MeshData m = io::readMesh(test::sharedMesh(std::string("disk/") + name + ".off"));
+    all.push_back({name, {m.V, m.F}, WeightScheme::Straightest});
+  }
+  return all;
+}
+
+TEST(InteriorSolver, MultigridMatchesSparseLu) {
+  for (const Case& c : cases()) {
+    const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
+    WeightCounts counts;
+    const std::vector<double> weights = computeWeights(patch, c.weights, counts);
+    const Polygon boundary = circleBoundary(patch);
+    InteriorSolver direct(patch, method(SolverMethod::Direct));
+    InteriorSolver multigrid(patch, method(SolverMethod::Multigrid));
+    const LocalUVs expected = direct.solve(weights, boundary);
+    const LocalUVs got = multigrid.solve(weights, boundary);
+    const SolverStats& stats = multigrid.lastStats();
+    EXPECT_TRUE(stats.multigrid) << c.name;
+    EXPECT_FALSE(stats.fell_back) << c.name;
+    EXPECT_GT(stats.levels, 1) << c.name;
+    EXPECT_LE(stats.relative_residual, 1e-10) << c.name;
+    EXPECT_LT(stats.iterations, 30) << c.name;
+    EXPECT_LT(maxDifference(got, expected), 1e-8) << c.name;
+  }
+}
+
+// u and v on two threads give the lockstep answer (each column is the same BiCGSTAB).
+TEST(InteriorSolver, ParallelColumnsMatchLockstep) {
+  const Case c = cases().front();
+  const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
+  WeightCounts counts;
+  const std::vector<double> weights = computeWeights(patch, c.weights, counts);
+  const Polygon boundary = circleBoundary(patch);
+  SolverSettings threads = method(SolverMethod::Multigrid);
+  threads.parallel_columns = true;
+  InteriorSolver lockstep(patch, method(SolverMethod::Multigrid)), parallel(patch, threads);
+  EXPECT_LT(maxDifference(lockstep.solve(weights, boundary), parallel.solve(weights, boundary)),
+            1e-12);
+}
+
+// A new boundary reuses the whole hierarchy; new weights (refinement) keep the aggregates. Both
+// still give the LU answer.
+TEST(InteriorSolver, LaterCallsReuseTheHierarchyAndStayExact) {
+  const Case c = cases()[1];
+  const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
+  WeightCounts counts;
+  std::vector<double> weights = computeWeights(patch, c.weights, counts);
+  InteriorSolver direct(patch, method(SolverMethod::Direct));
+  InteriorSolver multigrid(patch, method(SolverMethod::Multigrid));
+  multigrid.solve(weights, circleBoundary(patch));
+  EXPECT_FALSE(multigrid.lastStats().reused_hierarchy);
+
+  const Polygon square = squareBoundary(patch);
+  const LocalUVs on_square = multigrid.solve(weights, square);
+  EXPECT_TRUE(multigrid.lastStats().reused_hierarchy);
+  EXPECT_LT(maxDifference(on_square, direct.solve(weights, square)), 1e-8);
+
+  // Rows reweighted as the stretch refinement does it: positive factors, renormalized.
+  for (int v = 0; v < patch.vertexCount(); ++v) {
+    if (patch.on_boundary[v]) continue;
+    double sum = 0;
+    for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k)
+      sum += (weights[k] *= 1.0 + 0.5 * std::sin(patch.position[patch.ring_vertex[k]].x() * 7));
+    for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) weights[k] /= sum;
+  }
+  const LocalUVs reweighted = multigrid.solve(weights, square);
+  EXPECT_TRUE(multigrid.lastStats().reused_hierarchy);
+  EXPECT_FALSE(multigrid.lastStats().fell_back);
+  EXPECT_LT(maxDifference(reweighted, direct.solve(weights, square)), 1e-8);
+}
+
+// One BiCGSTAB iteration cannot reach 1e-14: the solver must hand the system to LU, say so, and
+// stay with LU afterwards.
+TEST(InteriorSolver, NonConvergenceFallsBackToLu) {
+  const Case c = cases().front();
+  const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
+  WeightCounts counts;
+  const std::vector<double> weights = computeWeights(patch, c.weights, counts);
+  const Polygon boundary = circleBoundary(patch);
+  SolverSettings hopeless = method(SolverMethod::Multigrid);
+  hopeless.max_iterations = 1;
+  hopeless.tolerance = 1e-14;
+  InteriorSolver solver(patch, hopeless);
+  InteriorSolver direct(patch, method(SolverMethod::Direct));
+  const LocalUVs expected = direct.solve(weights, boundary);
+  const LocalUVs got = solver.solve(weights, boundary);
+  EXPECT_TRUE(solver.lastStats().fell_back);
+  EXPECT_EQ(solver.lastStats().iterations, 1);
+  EXPECT_LT(solver.lastStats().relative_residual, 1e-12);  // the LU answer's
+  EXPECT_LT(maxDifference(got, expected), 1e-12);
+  solver.solve(weights, boundary);
+  EXPECT_FALSE(solver.lastStats().multigrid);
+}
+
+// A strength threshold no connection meets leaves nothing to aggregate: the hierarchy would be
+// one huge dense level, so the solver must not build it and must use LU instead.
+TEST(InteriorSolver, StalledCoarseningFallsBackToLu) {
+  const Case c = cases().front();
+  const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
+  WeightCounts counts;
+  const std::vector<double> weights = computeWeights(patch, c.weights, counts);
+  const Polygon boundary = circleBoundary(patch);
+  SolverSettings stalled = method(SolverMethod::Multigrid);
+  stalled.multigrid.strength = 10;
+  InteriorSolver solver(patch, stalled);
+  InteriorSolver direct(patch, method(SolverMethod::Direct));
+  const LocalUVs got = solver.solve(weights, boundary);
+  EXPECT_TRUE(solver.lastStats().fell_back);
+  EXPECT_LT(maxDifference(got, direct.solve(weights, boundary)), 1e-12);
+}
+
+// Automatic: LU below the size where it wins, multigrid above it.
+TEST(InteriorSolver, AutomaticPicksBySize) {
+  const test::Mesh small = test::planarGrid(30);
+  const Patch small_patch = buildPatch(small.V, small.F);
+  WeightCounts counts;
+  InteriorSolver small_solver(small_patch);
+  small_solver.solve(computeWeights(small_patch, WeightScheme::Uniform, counts),
+                     circleBoundary(small_patch));
+  EXPECT_FALSE(small_solver.lastStats().multigrid);
+
+  const test::Mesh large = test::planarGrid(120);
+  const Patch large_patch = buildPatch(large.V, large.F);
+  InteriorSolver large_solver(large_patch);
+  large_solver.solve(computeWeights(large_patch, WeightScheme::Uniform, counts),
+                     circleBoundary(large_patch));
+  EXPECT_TRUE(large_solver.lastStats().multigrid);
+  EXPECT_FALSE(large_solver.lastStats().fell_back);
+}
+
+}  // namespace
+}  // namespace sdp
