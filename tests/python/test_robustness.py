@@ -29,7 +29,8 @@ REFUSED = {
     "bowtie":
         "the mesh has 2 connected components; a patch must be one piece (select one component)",
     "triangle_soup":
-        "the mesh has 18 connected components; a patch must be one piece (select one component)",
+        "the mesh has 18 connected components: its faces share no edges (merge duplicate "
+        "vertices first)",
     "nonmanifold_edge": "edge (6, 12) is shared by more than two faces (a non-manifold edge)",
     "nonmanifold_vertex":
         "vertex 12 is non-manifold (two parts of the surface meet only at this vertex)",
