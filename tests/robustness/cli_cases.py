@@ -279,26 +279,7 @@ def similarity_residual(base, other):
 
 # --- the cases -------------------------------------------------------------------------------------
 
-REFUSED = {
-    "closed": "the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first",
-    "two_components":
-        "the mesh has 2 connected components; a patch must be one piece (select one component)",
-    "bowtie":
-        "the mesh has 2 connected components; a patch must be one piece (select one component)",
-    "triangle_soup":
-        "the mesh has 18 connected components: its faces share no edges (merge duplicate "
-        "vertices first)",
-    "nonmanifold_edge": "edge (6, 12) is shared by more than two faces (a non-manifold edge)",
-    "nonmanifold_vertex":
-        "vertex 12 is non-manifold (two parts of the surface meet only at this vertex)",
-    "duplicate_face": "faces 9 and 32 are duplicates",
-    "duplicate_face_rotated": "faces 9 and 32 are duplicates",
-    "duplicate_face_reversed": "edge (6, 10) is shared by more than two faces (a non-manifold edge)",
-    "inconsistent_orientation": "faces 8 and 9 are oriented inconsistently at edge (6, 10)",
-    "nan_vertex": "vertex 24 has a non-finite coordinate (NaN or infinity)",
-    "inf_vertex": "vertex 24 has a non-finite coordinate (NaN or infinity)",
-    "neg_inf_vertex": "vertex 0 has a non-finite coordinate (NaN or infinity)",
-}
+REFUSED = meshgen.REFUSED_REASONS
 
 
 def case_refused(cli, name):

@@ -188,21 +188,9 @@ def off(name, mesh=None):
     return meshgen.off_text(mesh if mesh is not None else meshgen.CASES[name]())
 
 
-REFUSED = {
-    "closed": "the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first",
-    "two_components":
-        "the mesh has 2 connected components; a patch must be one piece (select one component)",
-    "triangle_soup":
-        "the mesh has 18 connected components: its faces share no edges (merge duplicate "
-        "vertices first)",
-    "nonmanifold_edge": "edge (6, 12) is shared by more than two faces (a non-manifold edge)",
-    "nonmanifold_vertex":
-        "vertex 12 is non-manifold (two parts of the surface meet only at this vertex)",
-    "duplicate_face": "faces 9 and 32 are duplicates",
-    "inconsistent_orientation": "faces 8 and 9 are oriented inconsistently at edge (6, 10)",
-    "nan_vertex": "vertex 24 has a non-finite coordinate (NaN or infinity)",
-    "inf_vertex": "vertex 24 has a non-finite coordinate (NaN or infinity)",
-}
+REFUSED = {name: meshgen.REFUSED_REASONS[name] for name in (
+    "closed", "two_components", "triangle_soup", "nonmanifold_edge", "nonmanifold_vertex",
+    "duplicate_face", "inconsistent_orientation", "nan_vertex", "inf_vertex")}
 
 FLATTENED = {  # case: (faces in the output, warnings)
     "annulus": (24, ()),
