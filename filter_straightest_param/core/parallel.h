@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <new>
 #include <system_error>
@@ -47,6 +48,45 @@ void parallelFor(int n, int min_chunk, Body&& body) {
   }
   share(0);
   for (int w = started; w < workers; ++w) share(w);
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+// Runs `task` on the calling thread while the other workers take chunks of [0, n) from a shared
+// counter (body(begin, end, worker) as above); the calling thread joins in on the chunks once
+// its task is done. For two independent stages of unequal length (the boundary alongside the
+// weights): neither core waits for the other. An exception in the task or a chunk stops the
+// handing out of chunks and reaches the caller.
+template <class Task, class Body>
+void parallelForAlongside(int n, int chunk, Task&& task, Body&& body) {
+  const int workers = parallelWorkers();
+  chunk = std::max(chunk, 1);
+  std::atomic<int> next{0};
+  std::vector<std::exception_ptr> errors(workers);
+  auto takeChunks = [&](int worker) {
+    try {
+      for (int begin = next.fetch_add(chunk); begin < n; begin = next.fetch_add(chunk))
+        body(begin, std::min(n, begin + chunk), worker);
+    } catch (...) {
+      errors[worker] = std::current_exception();
+      next.store(n);
+    }
+  };
+  std::vector<std::thread> threads;
+  try {
+    threads.reserve(workers - 1);
+    for (int w = 1; w < workers; ++w) threads.emplace_back(takeChunks, w);
+  } catch (const std::system_error&) {  // fewer threads: the calling thread does the rest
+  } catch (const std::bad_alloc&) {
+  }
+  try {
+    task();
+  } catch (...) {
+    errors[0] = std::current_exception();
+    next.store(n);
+  }
+  if (!errors[0]) takeChunks(0);
   for (auto& t : threads) t.join();
   for (const auto& e : errors)
     if (e) std::rethrow_exception(e);

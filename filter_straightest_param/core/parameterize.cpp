@@ -30,14 +30,14 @@ class StageClock {
     stage_ = stage;
     start_ = Clock::now();
   }
-  void end() {
-    const double s = std::chrono::duration<double>(Clock::now() - start_).count();
+  void end() { add(stage_, std::chrono::duration<double>(Clock::now() - start_).count()); }
+  void add(const std::string& stage, double seconds) {
     for (auto& entry : report_.stage_seconds)
-      if (entry.first == stage_) {
-        entry.second += s;
+      if (entry.first == stage) {
+        entry.second += seconds;
         return;
       }
-    report_.stage_seconds.emplace_back(stage_, s);
+    report_.stage_seconds.emplace_back(stage, seconds);
   }
 
  private:
@@ -158,13 +158,6 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
   BoundaryShape shape = options.boundary;
   int source = userSource(patch, static_cast<int>(V.rows()), options.source_vertex,
                           shape == BoundaryShape::Measured);
-  if (shape == BoundaryShape::Measured && source < 0)
-    source = chooseSourceVertex(patch, options.source_rule);
-  clock.end();
-
-  clock.begin("weights", 10);
-  WeightCounts weight_counts;
-  std::vector<double> weights = computeWeights(patch, options.weights, weight_counts);
   clock.end();
 
   auto fallBackToCircle = [&](const std::string& why) {
@@ -172,50 +165,73 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
     ++report.boundary_fallbacks;
     shape = BoundaryShape::Circle;
   };
-  clock.begin("boundary", 30);
   Polygon boundary;
   MeasuredCounts measured_counts;
-  if (shape == BoundaryShape::Measured) {
-    if (source < 0) {
-      fallBackToCircle("the patch has no interior vertex to measure the boundary from");
-    } else {
-      boundary = measuredBoundary(patch, source, measured_counts);
-      const int failed = measured_counts.walk_failures + measured_counts.walk_detours;
-      const int boundary_vertices = static_cast<int>(patch.boundary_loop.size());
-      if (boundary.empty()) {
-        fallBackToCircle("the measured boundary could not be made convex");
-      } else if (const double ears = earStretch(patch, boundary),
-                 circle_ears = earStretch(patch, circleBoundary(patch));
-                 ears > 4 * std::max(circle_ears, 1.0)) {
-        // Faces with all corners on the boundary are shaped by the polygon alone; where the
-        // convex hull straightened a stretch, they are crushed flat (beetle.off).
-        char numbers[96];
-        std::snprintf(numbers, sizeof numbers, "%.3g (circle: %.3g)", ears, circle_ears);
-        fallBackToCircle(
-            std::string("the measured polygon crushes the faces lying on the boundary, "
-                        "their stretch ") +
-            numbers);
-      } else if (4 * failed > boundary_vertices) {
-        // Most cutting planes never reached their boundary vertex (a strongly curved patch seen
-        // from S): the polygon would be measured mostly by another rule, so it is not trusted.
-        fallBackToCircle("the straightest walks from the source missed " + std::to_string(failed) +
-                         " of " + std::to_string(boundary_vertices) + " boundary vertices");
+  // The boundary (source choice, walks) runs on this thread while the other cores start on the
+  // weights, then joins them: the two do not depend on each other. Their stage times overlap.
+  auto measureBoundary = [&] {
+    const auto start = Clock::now();
+    if (shape == BoundaryShape::Measured && source < 0)
+      source = chooseSourceVertex(patch, options.source_rule);
+    if (shape == BoundaryShape::Measured) {
+      if (source < 0) {
+        fallBackToCircle("the patch has no interior vertex to measure the boundary from");
+      } else {
+        boundary = measuredBoundary(patch, source, measured_counts);
+        const int failed = measured_counts.walk_failures + measured_counts.walk_detours;
+        const int boundary_vertices = static_cast<int>(patch.boundary_loop.size());
+        if (boundary.empty()) {
+          fallBackToCircle("the measured boundary could not be made convex");
+        } else if (const double ears = earStretch(patch, boundary),
+                   circle_ears = earStretch(patch, circleBoundary(patch));
+                   ears > 4 * std::max(circle_ears, 1.0)) {
+          // Faces with all corners on the boundary are shaped by the polygon alone; where the
+          // convex hull straightened a stretch, they are crushed flat (beetle.off).
+          char numbers[96];
+          std::snprintf(numbers, sizeof numbers, "%.3g (circle: %.3g)", ears, circle_ears);
+          fallBackToCircle(
+              std::string("the measured polygon crushes the faces lying on the boundary, "
+                          "their stretch ") +
+              numbers);
+        } else if (4 * failed > boundary_vertices) {
+          // Most cutting planes never reached their boundary vertex (a strongly curved patch
+          // seen from S): the polygon would be measured mostly by another rule, so it is not
+          // trusted.
+          fallBackToCircle("the straightest walks from the source missed " +
+                           std::to_string(failed) + " of " + std::to_string(boundary_vertices) +
+                           " boundary vertices");
+        }
       }
+    } else if (shape == BoundaryShape::Square) {
+      boundary = squareBoundary(patch);
+      if (boundary.empty())
+        fallBackToCircle("a square boundary needs at least 4 boundary vertices");
     }
-  } else if (shape == BoundaryShape::Square) {
-    boundary = squareBoundary(patch);
-    if (boundary.empty()) fallBackToCircle("a square boundary needs at least 4 boundary vertices");
-  }
-  if (shape == BoundaryShape::Circle) boundary = circleBoundary(patch);
+    if (shape == BoundaryShape::Circle) boundary = circleBoundary(patch);
+    clock.add("boundary", std::chrono::duration<double>(Clock::now() - start).count());
+  };
+  clock.begin("weights", 10);
+  WeightCounts weight_counts;
+  std::vector<double> weights =
+      computeWeights(patch, options.weights, weight_counts, measureBoundary);
   clock.end();
 
-  clock.begin("solve", 40);
   InteriorSolver solver(patch);
-  LocalUVs uv = solver.solve(weights, boundary);
-  clock.end();
-  clock.begin("metrics", 80);
-  StretchMetrics metrics = stretchMetrics(patch, uv);
-  clock.end();
+  LocalUVs uv;
+  StretchMetrics metrics;
+  // Solves and measures; a map with flipped faces from the (loose) iterative solve is solved
+  // again tightly first: the fold may be the solver's, not the weights' or the boundary's.
+  auto solveAndMeasure = [&](const std::vector<double>& w, const Polygon& polygon) {
+    do {
+      clock.begin("solve", 40);
+      uv = solver.solve(w, polygon);
+      clock.end();
+      clock.begin("metrics", 80);
+      metrics = stretchMetrics(patch, uv);
+      clock.end();
+    } while (metrics.flipped_faces > 0 && solver.tighten());
+  };
+  solveAndMeasure(weights, boundary);
 
   // Never return a folded map: first the circle (strictly convex in exact arithmetic), then
   // uniform weights (Tutte, the best-conditioned system), else refuse with the reason.
@@ -225,12 +241,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
     clock.begin("boundary", 40);
     boundary = circleBoundary(patch);
     clock.end();
-    clock.begin("solve", 40);
-    uv = solver.solve(weights, boundary);
-    clock.end();
-    clock.begin("metrics", 80);
-    metrics = stretchMetrics(patch, uv);
-    clock.end();
+    solveAndMeasure(weights, boundary);
   }
   if (metrics.flipped_faces > 0 && options.weights != WeightScheme::Uniform) {
     report.warnings.push_back(std::to_string(metrics.flipped_faces) + " faces folded with " +
@@ -239,12 +250,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
     ++report.boundary_fallbacks;
     WeightCounts ignored;
     weights = computeWeights(patch, WeightScheme::Uniform, ignored);
-    clock.begin("solve", 40);
-    uv = solver.solve(weights, boundary);
-    clock.end();
-    clock.begin("metrics", 80);
-    metrics = stretchMetrics(patch, uv);
-    clock.end();
+    solveAndMeasure(weights, boundary);
   }
   if (metrics.flipped_faces > 0)
     throw ParameterizationError("no one-to-one map: " + std::to_string(metrics.flipped_faces) +
@@ -261,8 +267,11 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
           !options.progress("refine", 85 + 10 * it / options.stretch_iterations))
         throw ParameterizationError("cancelled by the user");
       reweightByStretch(patch, current.vertex_l2, options.stretch_exponent, refined);
-      LocalUVs candidate = solver.solve(refined, boundary);
-      current = stretchMetrics(patch, candidate);
+      LocalUVs candidate;
+      do {
+        candidate = solver.solve(refined, boundary);
+        current = stretchMetrics(patch, candidate);
+      } while (current.flipped_faces > 0 && solver.tighten());
       report.stretch_iterations_run = it;
       if (current.flipped_faces > 0) break;  // numerically folded: keep the best so far
       if (current.l2 < metrics.l2) {

@@ -167,6 +167,13 @@ bool InteriorSolver::solveIteratively(SplitCsr A, const RightHandSides& rhs, Rig
   return true;
 }
 
+bool InteriorSolver::tighten() {
+  if (!stats_.multigrid || stats_.fell_back || settings_.tolerance <= settings_.tight_tolerance)
+    return false;
+  settings_.tolerance = settings_.tight_tolerance;
+  return true;
+}
+
 void InteriorSolver::solveDirectly(const SplitCsr& A, const RightHandSides& rhs,
                                    RightHandSides& x) {
   const auto start = Clock::now();

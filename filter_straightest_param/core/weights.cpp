@@ -110,11 +110,12 @@ void gatherRing(const Patch& patch, int v, Ring& ring) {
     ring.neighbour.push_back(patch.position[patch.ring_vertex[k]]);
 }
 
-std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, WeightCounts& counts) {
+std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, WeightCounts& counts,
+                                   const std::function<void()>& alongside) {
   std::vector<double> weights(patch.ring_vertex.size(), 0.0);
   const int n = patch.vertexCount();
   std::vector<WeightCounts> per_worker(parallelWorkers());
-  parallelFor(n, 4096, [&](int begin, int end, int worker) {
+  auto rows = [&](int begin, int end, int worker) {
     Ring ring;
     WeightCounts& local = per_worker[worker];
     for (int v = begin; v < end; ++v) {
@@ -131,7 +132,11 @@ std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, Weig
         ++local.degenerate_rings;
       }
     }
-  });
+  };
+  if (alongside)
+    parallelForAlongside(n, 2048, alongside, rows);
+  else
+    parallelFor(n, 4096, rows);
   int to_ltd = 0, degenerate = 0;
   for (const auto& c : per_worker) to_ltd += c.straightest_to_ltd, degenerate += c.degenerate_rings;
   counts.straightest_to_ltd += to_ltd;

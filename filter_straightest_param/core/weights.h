@@ -2,6 +2,7 @@
 // interior vertex, each row non-negative and summing to 1.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "options.h"
@@ -21,7 +22,10 @@ bool ringWeights(const Ring& ring, WeightScheme scheme, double* w, int& straight
 
 // All interior rows, parallel to patch.ring_vertex (boundary vertices' entries are 0). Degenerate
 // rings fall back to uniform weights, so every row is valid; the fallbacks are counted.
-std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, WeightCounts& counts);
+// `alongside`, when given, runs on the calling thread while the other cores start on the
+// weights (the pipeline measures the boundary meanwhile).
+std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, WeightCounts& counts,
+                                   const std::function<void()>& alongside = {});
 
 // Copies vertex v's 1-ring out of the patch.
 void gatherRing(const Patch& patch, int v, Ring& ring);

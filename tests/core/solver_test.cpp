@@ -22,9 +22,12 @@ double maxDifference(const LocalUVs& a, const LocalUVs& b) {
   return worst;
 }
 
+// The solver's own accuracy is checked at 1e-10; the pipeline's looser default is checked by
+// DefaultToleranceIsCloseToLu.
 SolverSettings method(SolverMethod m) {
   SolverSettings s;
   s.method = m;
+  s.tolerance = 1e-10;
   return s;
 }
 
@@ -64,6 +67,30 @@ TEST(InteriorSolver, MultigridMatchesSparseLu) {
     EXPECT_LE(stats.relative_residual, 1e-10) << c.name;
     EXPECT_LT(stats.iterations, 30) << c.name;
     EXPECT_LT(maxDifference(got, expected), 1e-8) << c.name;
+  }
+}
+
+// The default (loose) tolerance stays within 1e-6 of the exact solution on unit-size meshes, and
+// tighten() then reaches the tight tolerance from there.
+TEST(InteriorSolver, DefaultToleranceIsCloseToLuAndTightens) {
+  for (const Case& c : cases()) {
+    const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
+    WeightCounts counts;
+    const std::vector<double> weights = computeWeights(patch, c.weights, counts);
+    const Polygon boundary = circleBoundary(patch);
+    InteriorSolver direct(patch, method(SolverMethod::Direct));
+    SolverSettings loose;
+    loose.method = SolverMethod::Multigrid;
+    InteriorSolver multigrid(patch, loose);
+    const LocalUVs expected = direct.solve(weights, boundary);
+    const LocalUVs got = multigrid.solve(weights, boundary);
+    EXPECT_LE(multigrid.lastStats().relative_residual, loose.tolerance) << c.name;
+    EXPECT_LT(maxDifference(got, expected), 1e-6) << c.name;
+    ASSERT_TRUE(multigrid.tighten()) << c.name;
+    EXPECT_FALSE(multigrid.tighten()) << c.name;  // already tight
+    const LocalUVs tight = multigrid.solve(weights, boundary);
+    EXPECT_LE(multigrid.lastStats().relative_residual, loose.tight_tolerance) << c.name;
+    EXPECT_LT(maxDifference(tight, expected), 1e-9) << c.name;
   }
 }
 
