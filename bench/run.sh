@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
 # One command for every benchmark table and plot in the README:
-#   bash bench/run.sh            quality tables, paper Table 1, scaling (CGAL up to 414k vertices)
+#   bash bench/run.sh            quality tables, paper Table 1, scaling (CGAL up to 1.65M vertices; ~12 min)
 #   bash bench/run.sh --quick    small meshes only (a smoke run, a few minutes)
-#   bash bench/run.sh --full     scaling also runs CGAL at 1.65M vertices (~8 more minutes)
 # Results go to bench/results/ (Markdown, CSV, PNG) and into the README between bench markers.
 set -euo pipefail
 repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
