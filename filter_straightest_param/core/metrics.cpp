@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "parallel.h"
+
 namespace sdp {
 
 FaceStretch faceStretch(const Eigen::Vector3d q[3], const Eigen::Vector2d p[3]) {
@@ -33,15 +35,21 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
   StretchMetrics m;
   m.face_l2.resize(faces);
   std::vector<FaceStretch> stretch(faces);
+  std::vector<Eigen::Vector2d> area_sums(parallelWorkers(), Eigen::Vector2d::Zero());
+  parallelFor(faces, 16384, [&](int first, int last, int worker) {
+    Eigen::Vector2d sums = Eigen::Vector2d::Zero();
+    for (int f = first; f < last; ++f) {
+      const auto& t = patch.face[f];
+      const Eigen::Vector3d q[3] = {patch.position[t[0]], patch.position[t[1]],
+                                    patch.position[t[2]]};
+      const Eigen::Vector2d p[3] = {uv[t[0]], uv[t[1]], uv[t[2]]};
+      stretch[f] = faceStretch(q, p);
+      sums += Eigen::Vector2d(stretch[f].area2d, stretch[f].area3d);
+    }
+    area_sums[worker] = sums;
+  });
   double area2d = 0, area3d = 0, weighted = 0, worst = 0;
-  for (int f = 0; f < faces; ++f) {
-    const auto& t = patch.face[f];
-    const Eigen::Vector3d q[3] = {patch.position[t[0]], patch.position[t[1]], patch.position[t[2]]};
-    const Eigen::Vector2d p[3] = {uv[t[0]], uv[t[1]], uv[t[2]]};
-    stretch[f] = faceStretch(q, p);
-    area2d += stretch[f].area2d;
-    area3d += stretch[f].area3d;
-  }
+  for (const Eigen::Vector2d& sums : area_sums) area2d += sums.x(), area3d += sums.y();
   // Orientation is the layout's majority (a mirrored layout is still one-to-one; our own maps
   // are always counter-clockwise).
   const double orientation = area2d < 0 ? -1.0 : 1.0;
