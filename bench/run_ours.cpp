@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
         options.source_rule = sdp::parseSourceRule(value).value();
       else if (key == "--write-off")
         write_off = value;
+      else if (key == "--free-boundary")
+        options.free_boundary = value != "0";
       else if (key == "--stretch-exponent")
         options.stretch_exponent = std::stod(value);
       else

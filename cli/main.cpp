@@ -48,6 +48,8 @@ options:
   --source-rule R         automatic source: farthest (from the boundary, default) or centroid
                           (nearest the centroid of the boundary vertices)
   --stretch-iterations K  stretch-minimizing refinement steps (default 0: the linear method)
+  --fixed-boundary        refinement keeps the boundary where it is (default: after the
+                          reweighting, K checked steps that let the boundary move too)
   --outer-vertex N        patches with holes: a vertex on the loop to use as the outer
                           boundary (default: the longest loop; the others are filled virtually)
   --report FILE.json      also write the report to FILE.json
@@ -140,6 +142,10 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
     }
     if (arg == "--natural-scale") {
       args.natural_scale = true;
+      continue;
+    }
+    if (arg == "--fixed-boundary") {
+      args.options.free_boundary = false;
       continue;
     }
     // "--name value" or "--name=value".

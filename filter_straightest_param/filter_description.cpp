@@ -56,6 +56,16 @@ const std::vector<ParameterDescription>& parameters() {
        {},
        0,
        {}},
+      {"freeboundary",
+       "Free boundary in refinement",
+       "With stretch iterations: after the reweighting, let the boundary move too "
+       "(as-rigid-as-possible steps, each checked to keep the map one-to-one). Much lower stretch "
+       "where faces touch the border; off keeps the circle or measured outline. The square "
+       "boundary always stays square.",
+       ParameterType::Bool,
+       {},
+       1,
+       {}},
       {"selectedonly",
        "Selected faces only",
        "Parameterize only the selected faces (they must form one disk-shaped patch); other faces "
@@ -106,6 +116,7 @@ sdp::Options toOptions(const FilterValues& values) {
   options.boundary = static_cast<BoundaryShape>(values.boundary);
   options.source_vertex = values.source_vertex < 0 ? -1 : values.source_vertex;
   options.stretch_iterations = values.stretch_iterations;
+  options.free_boundary = values.free_boundary;
   return options;
 }
 

@@ -138,6 +138,10 @@ inline std::vector<std::string> reportLines(const FilterRun& run, const sdp::UVM
     lines.push_back("stretch refinement: " + std::to_string(r.stretch_iterations_run) +
                     " iterations, kept iteration " + std::to_string(r.best_iteration) +
                     ", linear L2 " + formatReportValue("%.4f", r.l2_stretch_linear));
+    if (r.free_boundary_steps > 0)
+      lines.push_back("free boundary: " + std::to_string(r.free_boundary_steps) +
+                      " steps, L2 on the fixed boundary " +
+                      formatReportValue("%.4f", r.l2_stretch_fixed_boundary));
   }
   for (const std::string& note : run.notes) lines.push_back(note);
   for (const std::string& warning : r.warnings) lines.push_back("warning: " + warning);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "boundary.h"
+#include "free_boundary.h"
 #include "metrics.h"
 #include "patch.h"
 #include "solve.h"
@@ -281,6 +282,16 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
       }
     }
     clock.end();
+    report.l2_stretch_fixed_boundary = metrics.l2;
+    if (options.free_boundary && shape != BoundaryShape::Square) {
+      if (options.progress && !options.progress("free boundary", 95))
+        throw ParameterizationError("cancelled by the user");
+      clock.begin("free_boundary", 95);
+      FreeBoundaryCounts counts;
+      uv = relaxWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, counts);
+      report.free_boundary_steps = counts.steps_taken;
+      clock.end();
+    }
   }
 
   report.boundary_used = boundaryShapeName(shape);

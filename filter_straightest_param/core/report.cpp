@@ -63,6 +63,8 @@ std::string Report::toJson() const {
   o << "  \"stretch_iterations\": " << stretch_iterations_run << ",\n";
   o << "  \"best_iteration\": " << best_iteration << ",\n";
   o << "  \"l2_stretch_linear\": " << jsonNumber(l2_stretch_linear) << ",\n";
+  o << "  \"l2_stretch_fixed_boundary\": " << jsonNumber(l2_stretch_fixed_boundary) << ",\n";
+  o << "  \"free_boundary_steps\": " << free_boundary_steps << ",\n";
   o << "  \"fallback_counts\": {\"straightest_to_ltd\": " << straightest_to_ltd
     << ", \"degenerate_rings\": " << degenerate_rings << ", \"walk_fallbacks\": " << walk_fallbacks
     << ", \"boundary_fallbacks\": " << boundary_fallbacks << "},\n";

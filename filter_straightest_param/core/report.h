@@ -18,8 +18,10 @@ struct Report {
   double linf_stretch = 0;    // Sander L-infinity (worst face)
   int flipped_faces = 0;      // faces with non-positive signed UV area in the returned map
   int stretch_iterations_run = 0;
-  int best_iteration = 0;        // iteration whose map was kept (0 = linear solve)
-  double l2_stretch_linear = 0;  // L2 of the linear map before refinement
+  int best_iteration = 0;                // iteration whose map was kept (0 = linear solve)
+  double l2_stretch_linear = 0;          // L2 of the linear map before refinement
+  double l2_stretch_fixed_boundary = 0;  // L2 after the reweighting, before the free boundary
+  int free_boundary_steps = 0;           // free-boundary steps taken (0: the boundary stayed)
   // Fallbacks, all counted; `fallbacks` is their sum.
   int fallbacks = 0;
   int straightest_to_ltd = 0;  // neighbours whose cutting plane crossed no far-side edge

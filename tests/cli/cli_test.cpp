@@ -261,6 +261,15 @@ TEST_F(CliTest, StretchIterationsRun) {
   const ToolRun r = run({kNefertiti, outPath("m.ply"), "--stretch-iterations", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expectReportKeys(r.out);
+  EXPECT_NE(jsonValue(r.out, "free_boundary_steps"), "0");  // the boundary moves by default
+}
+
+TEST_F(CliTest, FixedBoundaryKeepsTheBoundary) {
+  const ToolRun r =
+      run({kNefertiti, outPath("m.ply"), "--stretch-iterations", "2", "--fixed-boundary"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(jsonValue(r.out, "free_boundary_steps"), "0");
+  EXPECT_EQ(jsonValue(r.out, "l2_stretch"), jsonValue(r.out, "l2_stretch_fixed_boundary"));
 }
 
 TEST_F(CliTest, QuadMeshIsTriangulatedWithAWarning) {

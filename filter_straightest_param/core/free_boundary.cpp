@@ -1,0 +1,209 @@
+#include "free_boundary.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <new>
+
+namespace sdp {
+namespace {
+
+using Edge = std::array<int, 2>;
+
+// Edges with a real face on one side only: the outer loop and the hole loops.
+std::vector<Edge> boundaryEdges(const Patch& patch) {
+  std::vector<Edge> edges;
+  for (int f = 0; f < patch.real_face_count; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int across = patch.face_across[f][c];
+      if (across < 0 || across >= patch.real_face_count)
+        edges.push_back({patch.face[f][c], patch.face[f][(c + 1) % 3]});
+    }
+  return edges;
+}
+
+double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const Eigen::Vector2d u = b - a, v = c - a;
+  return u.x() * v.y() - u.y() * v.x();
+}
+
+bool within(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  return std::min(a.x(), b.x()) <= p.x() && p.x() <= std::max(a.x(), b.x()) &&
+         std::min(a.y(), b.y()) <= p.y() && p.y() <= std::max(a.y(), b.y());
+}
+
+// Closed segments ab and cd share a point (touching counts: it is not a simple boundary).
+bool segmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                  const Eigen::Vector2d& d) {
+  const double d1 = orient(a, b, c), d2 = orient(a, b, d), d3 = orient(c, d, a),
+               d4 = orient(c, d, b);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    return true;
+  return (d1 == 0 && within(a, b, c)) || (d2 == 0 && within(a, b, d)) ||
+         (d3 == 0 && within(c, d, a)) || (d4 == 0 && within(c, d, b));
+}
+
+// The 3D triangle laid flat isometrically (corner 0 at the origin, corner 1 on the x axis) and
+// its cotangent weights: weight[k] belongs to the edge opposite corner k.
+struct FlatFace {
+  std::array<Eigen::Vector2d, 3> x;
+  std::array<double, 3> weight;
+};
+
+FlatFace flatten(const Patch& patch, int f) {
+  const auto& t = patch.face[f];
+  const Eigen::Vector3d e1 = patch.position[t[1]] - patch.position[t[0]];
+  const Eigen::Vector3d e2 = patch.position[t[2]] - patch.position[t[0]];
+  FlatFace flat;
+  const double l1 = e1.norm();
+  flat.x[0] = Eigen::Vector2d::Zero();
+  flat.x[1] = Eigen::Vector2d(l1, 0);
+  flat.x[2] =
+      l1 > 0 ? Eigen::Vector2d(e1.dot(e2) / l1, e1.cross(e2).norm() / l1) : Eigen::Vector2d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d u = flat.x[(k + 1) % 3] - flat.x[k], v = flat.x[(k + 2) % 3] - flat.x[k];
+    const double cross = std::abs(u.x() * v.y() - u.y() * v.x());
+    // A needle's cotangent is huge: capped, so one bad triangle cannot swamp the system.
+    constexpr double kCap = 1e4;
+    const double cot = cross > 0 ? u.dot(v) / cross : kCap;
+    flat.weight[k] = 0.5 * std::clamp(cot, -kCap, kCap);
+  }
+  return flat;
+}
+
+}  // namespace
+
+bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
+  std::vector<Edge> edges = boundaryEdges(patch);
+  auto low = [&](const Edge& e) { return std::min(uv[e[0]].x(), uv[e[1]].x()); };
+  std::sort(edges.begin(), edges.end(),
+            [&](const Edge& a, const Edge& b) { return low(a) < low(b); });
+  // Sweep along x: an edge is tested against the later edges whose x range starts before its
+  // own ends (a boundary curve meets few of them).
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const Edge& e = edges[i];
+    const double high = std::max(uv[e[0]].x(), uv[e[1]].x());
+    for (size_t j = i + 1; j < edges.size() && low(edges[j]) <= high; ++j) {
+      const Edge& g = edges[j];
+      if (e[0] == g[0] || e[0] == g[1] || e[1] == g[0] || e[1] == g[1]) continue;
+      if (segmentsMeet(uv[e[0]], uv[e[1]], uv[g[0]], uv[g[1]])) return false;
+    }
+  }
+  return true;
+}
+
+LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
+                               StretchMetrics& metrics, FreeBoundaryCounts& counts) {
+  const int n = patch.real_vertex_count;
+  const int faces = patch.real_face_count;
+  if (steps <= 0 || n < 3 || faces == 0) return uv;
+  try {
+    // Start at the 3D size (the rigid targets are 3D edge vectors).
+    double area2d = 0, area3d = 0;
+    for (int f = 0; f < faces; ++f) {
+      const auto& t = patch.face[f];
+      const Eigen::Vector2d a = uv[t[1]] - uv[t[0]], b = uv[t[2]] - uv[t[0]];
+      area2d += 0.5 * (a.x() * b.y() - a.y() * b.x());
+      area3d += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
+                          .cross(patch.position[t[2]] - patch.position[t[0]])
+                          .norm();
+    }
+    if (!(area2d > 0) || !(area3d > 0)) return uv;
+    const double scale = std::sqrt(area3d / area2d);
+    LocalUVs current = uv;
+    for (auto& p : current) p *= scale;
+    LocalUVs best = uv;
+
+    std::vector<FlatFace> flat(faces);
+    for (int f = 0; f < faces; ++f) flat[f] = flatten(patch, f);
+
+    // Global step matrix: the cotangent Laplacian over the real vertices, vertex 0 pinned (the
+    // energy does not see translations). Factored once, used by every step.
+    const int pinned = 0;
+    auto unknown = [&](int v) { return v < pinned ? v : v - 1; };
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(static_cast<size_t>(faces) * 12);
+    for (int f = 0; f < faces; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int i = patch.face[f][(k + 1) % 3], j = patch.face[f][(k + 2) % 3];
+        const double w = flat[f].weight[k];
+        if (i != pinned) entries.emplace_back(unknown(i), unknown(i), w);
+        if (j != pinned) entries.emplace_back(unknown(j), unknown(j), w);
+        if (i != pinned && j != pinned) {
+          entries.emplace_back(unknown(i), unknown(j), -w);
+          entries.emplace_back(unknown(j), unknown(i), -w);
+        }
+      }
+    Eigen::SparseMatrix<double> L(n - 1, n - 1);
+    L.setFromTriplets(entries.begin(), entries.end());
+    std::vector<Eigen::Triplet<double>>().swap(entries);
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(L);
+    if (factor.info() != Eigen::Success) return uv;
+
+    Eigen::MatrixX2d rhs(n - 1, 2);
+    for (int step = 0; step < steps; ++step) {
+      // Local step: the rotation closest to each face's current map (2x2 polar decomposition
+      // in closed form). Global step: the positions that best fit all the rotated faces.
+      rhs.setZero();
+      for (int f = 0; f < faces; ++f) {
+        const auto& t = patch.face[f];
+        Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
+        for (int k = 0; k < 3; ++k) {
+          const int a = (k + 1) % 3, b = (k + 2) % 3;
+          S += flat[f].weight[k] * (current[t[a]] - current[t[b]]) *
+               (flat[f].x[a] - flat[f].x[b]).transpose();
+        }
+        const double angle = std::atan2(S(1, 0) - S(0, 1), S(0, 0) + S(1, 1));
+        Eigen::Matrix2d R;
+        R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+        for (int k = 0; k < 3; ++k) {
+          const int a = (k + 1) % 3, b = (k + 2) % 3;
+          const int i = t[a], j = t[b];
+          const Eigen::Vector2d target = flat[f].weight[k] * (R * (flat[f].x[a] - flat[f].x[b]));
+          if (i != pinned) {
+            rhs.row(unknown(i)) += target.transpose();
+            if (j == pinned) rhs.row(unknown(i)) += flat[f].weight[k] * current[j].transpose();
+          }
+          if (j != pinned) {
+            rhs.row(unknown(j)) -= target.transpose();
+            if (i == pinned) rhs.row(unknown(j)) += flat[f].weight[k] * current[i].transpose();
+          }
+        }
+      }
+      const Eigen::MatrixX2d solved = factor.solve(rhs);
+      if (factor.info() != Eigen::Success || !solved.allFinite()) break;
+
+      // Take the step, halved until it neither folds a face nor crosses the boundary.
+      bool taken = false;
+      LocalUVs candidate = current;
+      for (int halvings = 0; halvings <= 8 && !taken; ++halvings) {
+        const double length = std::ldexp(1.0, -halvings);
+        for (int v = 0; v < n; ++v)
+          if (v != pinned)
+            candidate[v] = current[v] + length * (solved.row(unknown(v)).transpose() - current[v]);
+        StretchMetrics measured = stretchMetrics(patch, candidate);
+        if (measured.flipped_faces > 0 || !boundaryIsSimple(patch, candidate)) continue;
+        taken = true;
+        ++counts.steps_taken;
+        if (halvings > 0) ++counts.steps_shortened;
+        current.swap(candidate);
+        if (measured.l2 < metrics.l2) {
+          metrics = std::move(measured);
+          best = current;
+        }
+      }
+      if (!taken) {
+        counts.stopped = true;
+        break;
+      }
+    }
+    return best;
+  } catch (const std::bad_alloc&) {
+    counts.stopped = true;  // the factor did not fit: keep the fixed-boundary map
+    return uv;
+  }
+}
+
+}  // namespace sdp

@@ -1,0 +1,35 @@
+// Beyond the paper: refinement with the boundary let go. A fixed convex boundary caps what any
+// reweighting can do: faces with all three corners on the boundary (the ears and fins of
+// camel_b) are shaped by the polygon alone and stay crushed. Here local/global
+// as-rigid-as-possible steps (Liu, Zhang, Xu, Gotsman, Gortler 2008) start from the one-to-one
+// fixed-boundary map and move every vertex, boundary included, towards the 3D shape of its
+// faces. Each step is checked before it is taken: a step that would flip or collapse a face or
+// make the boundary cross itself is halved until it does neither, or dropped. A map with no
+// flipped face whose boundary curves do not cross is one-to-one, so the guarantee holds.
+#pragma once
+
+#include <vector>
+
+#include "metrics.h"
+#include "patch.h"
+#include "solve.h"
+
+namespace sdp {
+
+struct FreeBoundaryCounts {
+  int steps_taken = 0;      // steps applied (in full or shortened)
+  int steps_shortened = 0;  // ... of them shortened to avoid a fold or a boundary crossing
+  bool stopped = false;     // a step could not be taken at any length: the refinement stopped
+};
+
+// Up to `steps` steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the map with
+// the lowest L2 stretch seen (the start if no step lowers it) and its metrics in `metrics`.
+// Virtual hole-fill vertices keep their start positions; they are not part of the user's mesh.
+LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
+                               StretchMetrics& metrics, FreeBoundaryCounts& counts);
+
+// True when no two edges that bound the real faces (outer loop and holes) cross or touch,
+// apart from neighbours meeting at their shared vertex.
+bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv);
+
+}  // namespace sdp

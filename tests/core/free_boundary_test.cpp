@@ -1,0 +1,104 @@
+#include "core/free_boundary.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <utility>
+
+#include "core/parameterize.h"
+#include "mesh_io.h"
+#include "test_meshes.h"
+
+namespace sdp {
+namespace {
+
+// Edges of the input faces that only one face uses (all boundary loops), from F alone.
+std::vector<std::pair<int, int>> borderEdges(const Triangles& F) {
+  std::map<std::pair<int, int>, int> uses;
+  for (int f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int a = F(f, c), b = F(f, (c + 1) % 3);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  std::vector<std::pair<int, int>> border;
+  for (const auto& [edge, count] : uses)
+    if (count == 1) border.push_back(edge);
+  return border;
+}
+
+// Brute force over all pairs of border edges: any two that are not neighbours properly cross or
+// touch. Independent of boundaryIsSimple's sweep.
+int borderCrossings(const UVs& uv, const Triangles& F) {
+  const auto border = borderEdges(F);
+  auto cross = [](Eigen::Vector2d o, Eigen::Vector2d a, Eigen::Vector2d b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  int crossings = 0;
+  for (size_t i = 0; i < border.size(); ++i)
+    for (size_t j = i + 1; j < border.size(); ++j) {
+      const auto [a, b] = border[i];
+      const auto [c, d] = border[j];
+      if (a == c || a == d || b == c || b == d) continue;
+      const Eigen::Vector2d A = uv.row(a), B = uv.row(b), C = uv.row(c), D = uv.row(d);
+      if (cross(A, B, C) * cross(A, B, D) <= 0 && cross(C, D, A) * cross(C, D, B) <= 0) ++crossings;
+    }
+  return crossings;
+}
+
+TEST(FreeBoundary, BoundaryIsSimpleSeesACrossing) {
+  const test::Mesh m = test::planarGrid(6);
+  const Patch patch = buildPatch(m.V, m.F);
+  LocalUVs uv(patch.vertexCount());
+  for (int v = 0; v < patch.vertexCount(); ++v) uv[v] = patch.position[v].head<2>();
+  EXPECT_TRUE(boundaryIsSimple(patch, uv));
+  // Pull one boundary vertex across the far side of the square: its two edges cross it.
+  const int moved = patch.boundary_loop.front();
+  uv[moved] = -3 * uv[moved];
+  EXPECT_FALSE(boundaryIsSimple(patch, uv));
+}
+
+// camel_b: the convex boundary crushes its boundary fins (fixed-boundary L2 17); letting the
+// boundary go gives them their shape back, with no fold and no boundary crossing.
+TEST(FreeBoundary, CamelBLetsTheBoundaryGoAndStaysOneToOne) {
+  const io::MeshData m = io::readMesh(test::sharedMesh("disk/camel_b.off"));
+  Options o;
+  o.stretch_iterations = 10;
+  const Result r = parameterize(m.V, m.F, o);
+  EXPECT_GT(r.report.free_boundary_steps, 0);
+  EXPECT_LT(r.report.l2_stretch, 0.25 * r.report.l2_stretch_fixed_boundary);
+  EXPECT_EQ(r.report.flipped_faces, 0);
+  EXPECT_EQ(test::countNonPositiveFaces(r, m.F), 0);
+  EXPECT_EQ(borderCrossings(r.uv, m.F), 0);
+}
+
+TEST(FreeBoundary, SquareAndFixedBoundaryKeepTheBoundary) {
+  const io::MeshData m = io::readMesh(test::sharedMesh("disk/nefertiti.off"));
+  Options square;
+  square.boundary = BoundaryShape::Square;
+  square.stretch_iterations = 3;
+  EXPECT_EQ(parameterize(m.V, m.F, square).report.free_boundary_steps, 0);
+  Options fixed;
+  fixed.stretch_iterations = 3;
+  fixed.free_boundary = false;
+  const Result r = parameterize(m.V, m.F, fixed);
+  EXPECT_EQ(r.report.free_boundary_steps, 0);
+  EXPECT_EQ(r.report.l2_stretch, r.report.l2_stretch_fixed_boundary);
+  Options free = fixed;
+  free.free_boundary = true;
+  EXPECT_LT(parameterize(m.V, m.F, free).report.l2_stretch, r.report.l2_stretch);
+}
+
+// With holes every loop is checked: no hole may cross another or the outer loop.
+TEST(FreeBoundary, HolesStayApart) {
+  const io::MeshData m = io::readMesh(test::sharedMesh("holes/beetle.off"));
+  Options o;
+  o.stretch_iterations = 3;
+  const Result r = parameterize(m.V, m.F, o);
+  EXPECT_EQ(r.report.flipped_faces, 0);
+  EXPECT_EQ(test::countNonPositiveFaces(r, m.F), 0);
+  EXPECT_EQ(borderCrossings(r.uv, m.F), 0);
+  EXPECT_LE(r.report.l2_stretch, r.report.l2_stretch_fixed_boundary);
+}
+
+}  // namespace
+}  // namespace sdp
