@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <queue>
 
@@ -138,22 +139,98 @@ Polygon squareBoundary(const Patch& patch) {
   return result;
 }
 
+namespace {
+
+// Min-heap of vertices keyed by tentative distance, with decrease-key: each vertex is in it at
+// most once (a lazy std::priority_queue holds every improvement, about twice as many entries,
+// and its pops were a tenth of the whole run at 414k vertices). Four children per node: fewer
+// levels, and the children sit in one cache line.
+class VertexHeap {
+ public:
+  explicit VertexHeap(int vertices) : slot_(vertices, -1) {}
+  bool empty() const { return heap_.empty(); }
+  // Inserts v or lowers its key.
+  void push(int v, double key) {
+    int at = slot_[v];
+    if (at < 0) {
+      at = static_cast<int>(heap_.size());
+      heap_.push_back({key, v});
+    } else {
+      heap_[at].key = key;
+    }
+    siftUp(at);
+  }
+  int pop() {
+    const int top = heap_.front().vertex;
+    slot_[top] = -2;  // settled
+    const Node last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) {
+      heap_.front() = last;
+      slot_[last.vertex] = 0;
+      siftDown(0);
+    }
+    return top;
+  }
+
+ private:
+  struct Node {
+    double key;
+    int vertex;
+  };
+  void place(int at, const Node& node) {
+    heap_[at] = node;
+    slot_[node.vertex] = at;
+  }
+  void siftUp(int at) {
+    const Node node = heap_[at];
+    while (at > 0) {
+      const int parent = (at - 1) / 4;
+      if (!(node.key < heap_[parent].key)) break;
+      place(at, heap_[parent]);
+      at = parent;
+    }
+    place(at, node);
+  }
+  void siftDown(int at) {
+    const Node node = heap_[at];
+    const int size = static_cast<int>(heap_.size());
+    while (true) {
+      const int first = 4 * at + 1;
+      if (first >= size) break;
+      int best = first;
+      for (int c = first + 1; c < std::min(first + 4, size); ++c)
+        if (heap_[c].key < heap_[best].key) best = c;
+      if (!(heap_[best].key < node.key)) break;
+      place(at, heap_[best]);
+      at = best;
+    }
+    place(at, node);
+  }
+  std::vector<Node> heap_;
+  std::vector<int> slot_;  // heap position, -1 never queued, -2 settled
+};
+
+}  // namespace
+
 std::vector<double> edgeGraphDistances(const Patch& patch, const std::vector<int>& sources) {
   std::vector<double> dist(patch.vertexCount(), std::numeric_limits<double>::infinity());
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  VertexHeap heap(patch.vertexCount());
   for (int s : sources) {
     dist[s] = 0;
-    queue.push({0.0, s});
+    heap.push(s, 0.0);
   }
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > dist[v]) continue;
+  while (!heap.empty()) {
+    const int v = heap.pop();
+    const double d = dist[v];
+    const Eigen::Vector3d& p = patch.position[v];
     for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) {
       const int w = patch.ring_vertex[k];
-      const double nd = d + (patch.position[w] - patch.position[v]).norm();
-      if (nd < dist[w]) dist[w] = nd, queue.push({nd, w});
+      const double nd = d + (patch.position[w] - p).norm();
+      if (nd < dist[w]) {
+        dist[w] = nd;
+        heap.push(w, nd);
+      }
     }
   }
   return dist;
