@@ -51,20 +51,11 @@ const std::vector<ParameterDescription>& parameters() {
        "Stretch iterations",
        "0 gives the paper's linear map. Each further iteration re-solves with weights that pull "
        "less towards stretched areas (lower stretch, still never folds); costs about one solve "
-       "each.",
+       "each. With the Measured boundary, as many checked steps then let the outline move too "
+       "(much lower stretch where faces touch the border); Circle and Square stay as they are.",
        ParameterType::Int,
        {},
        0,
-       {}},
-      {"freeboundary",
-       "Free boundary in refinement",
-       "With stretch iterations: after the reweighting, let the boundary move too "
-       "(as-rigid-as-possible steps, each checked to keep the map one-to-one). Much lower stretch "
-       "where faces touch the border; off keeps the circle or measured outline. The square "
-       "boundary always stays square.",
-       ParameterType::Bool,
-       {},
-       1,
        {}},
       {"selectedonly",
        "Selected faces only",
@@ -116,7 +107,6 @@ sdp::Options toOptions(const FilterValues& values) {
   options.boundary = static_cast<BoundaryShape>(values.boundary);
   options.source_vertex = values.source_vertex < 0 ? -1 : values.source_vertex;
   options.stretch_iterations = values.stretch_iterations;
-  options.free_boundary = values.free_boundary;
   return options;
 }
 

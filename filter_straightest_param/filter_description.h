@@ -28,8 +28,10 @@ struct ParameterDescription {
   std::string string_default;            // String only
 };
 
-// In dialog order: weights, boundary, sourcevertex, stretchiterations, freeboundary,
-// selectedonly, texturename, checkers, texturesize.
+// In dialog order: weights, boundary, sourcevertex, stretchiterations, selectedonly,
+// texturename, checkers, texturesize. No parameter may be added lightly: meshlabserver 2020.09
+// aborts (an assertion) on a script that lacks one of the filter's parameters, which every
+// script saved before the addition would.
 const std::vector<ParameterDescription>& parameters();
 
 // Values read back from a shim's parameter list.
@@ -38,7 +40,6 @@ struct FilterValues {
   int boundary = 0;
   int source_vertex = -1;
   int stretch_iterations = 0;
-  bool free_boundary = true;
   bool selected_only = false;
   std::string texture_name = "straightest_checker.png";
   int checkers = 16;

@@ -61,8 +61,6 @@ sdp::filter::FilterValues readFilterValues(const ParameterList& list) {
       v.source_vertex = list.getInt(name);
     else if (p.name == "stretchiterations")
       v.stretch_iterations = list.getInt(name);
-    else if (p.name == "freeboundary")
-      v.free_boundary = list.getBool(name);
     else if (p.name == "selectedonly")
       v.selected_only = list.getBool(name);
     else if (p.name == "texturename")

@@ -283,7 +283,10 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
     }
     clock.end();
     report.l2_stretch_fixed_boundary = metrics.l2;
-    if (options.free_boundary && shape != BoundaryShape::Square) {
+    // Only the measured boundary is let go: it stands for the patch's own outline, which this
+    // refines; a circle or square is a shape the user asked for (and it stays after a fallback
+    // from measured to circle, where letting go helps most).
+    if (options.free_boundary && options.boundary == BoundaryShape::Measured) {
       if (options.progress && !options.progress("free boundary", 95))
         throw ParameterizationError("cancelled by the user");
       clock.begin("free_boundary", 95);

@@ -71,12 +71,14 @@ TEST(FreeBoundary, CamelBLetsTheBoundaryGoAndStaysOneToOne) {
   EXPECT_EQ(borderCrossings(r.uv, m.F), 0);
 }
 
-TEST(FreeBoundary, SquareAndFixedBoundaryKeepTheBoundary) {
+TEST(FreeBoundary, CircleSquareAndFixedBoundaryKeepTheBoundary) {
   const io::MeshData m = io::readMesh(test::sharedMesh("disk/nefertiti.off"));
-  Options square;
-  square.boundary = BoundaryShape::Square;
-  square.stretch_iterations = 3;
-  EXPECT_EQ(parameterize(m.V, m.F, square).report.free_boundary_steps, 0);
+  for (BoundaryShape shape : {BoundaryShape::Square, BoundaryShape::Circle}) {
+    Options asked;
+    asked.boundary = shape;
+    asked.stretch_iterations = 3;
+    EXPECT_EQ(parameterize(m.V, m.F, asked).report.free_boundary_steps, 0);
+  }
   Options fixed;
   fixed.stretch_iterations = 3;
   fixed.free_boundary = false;

@@ -9,6 +9,15 @@ import math
 import os
 
 
+class Failure(Exception):
+    """A robustness case that did not behave (the message says how)."""
+
+
+def check(condition, message):
+    if not condition:
+        raise Failure(message)
+
+
 def grid(n, sx=1.0, sy=1.0, height=lambda x, y: 0.0, m=None):
     """An (n+1) x (m+1) grid over [0, sx] x [0, sy] with alternating diagonals (a disk)."""
     m = n if m is None else m

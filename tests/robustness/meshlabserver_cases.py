@@ -28,18 +28,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "meshlab"))
 import meshgen  # noqa: E402
+from meshgen import Failure, check  # noqa: E402
 from check_obj_uv import read_obj, sander_stretch  # noqa: E402
 
 FILTER = "Parametrization: Straightest Distances"
-
-
-class Failure(Exception):
-    pass
-
-
-def check(condition, message):
-    if not condition:
-        raise Failure(message)
 
 
 def select_faces(condition):
