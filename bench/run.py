@@ -227,14 +227,16 @@ def refinement(rows, meshes):
 
 def holes(bench):
     lines = ["| mesh | boundary | vertices | holes filled | L2 | L∞ | flipped | s |", "|---|---|---|---|---|---|---|---|"]
+    runs = [(b, {"boundary": b}) for b in BOUNDARIES] + [
+        (f"measured, K={REFINE_ITERATIONS}", {"stretch_iterations": REFINE_ITERATIONS})]
     for name in ["beetle", "halftunnel_quads"]:
         mesh = SHARED / "meshes/holes" / f"{name}.off"
-        for b in BOUNDARIES:
-            r = bench.ours(mesh, boundary=b)
+        for label, options in runs:
+            r = bench.ours(mesh, **options)
             if "error" in r:
-                lines.append(f"| {name} | {b} | – | – | failed: {' '.join(r['error'])} | | | |")
+                lines.append(f"| {name} | {label} | – | – | failed: {' '.join(r['error'])} | | | |")
                 continue
-            lines.append(f"| {name} | {b} ({r['boundary_used']}) | {r['vertices']:,} | {r['holes_filled']} | "
+            lines.append(f"| {name} | {label} ({r['boundary_used']}) | {r['vertices']:,} | {r['holes_filled']} | "
                          f"{fmt(r['l2_stretch'])} | {fmt(r['linf_stretch'], 2)} | {r['flipped_faces']} | "
                          f"{fmt(r['seconds'], 3)} |")
     return "\n".join(lines)
@@ -242,18 +244,22 @@ def holes(bench):
 
 def renders(bench, folder):
     """Checkerboard, stretch map and layout of a few meshes, drawn from the CLI's own output."""
-    cases = [("nefertiti", []), ("lilium", []), ("face", []),
-             ("face", ["--stretch-iterations", str(REFINE_ITERATIONS)])]
+    refine = ["--stretch-iterations", str(REFINE_ITERATIONS)]
+    cases = [("nefertiti", "nefertiti", [], ""), ("lilium", "lilium", [], ""), ("face", "face", [], ""),
+             ("face", "face_refined", refine, f", {REFINE_ITERATIONS} stretch iterations"),
+             ("camel_b", "camel_b_refined_fixed", refine + ["--fixed-boundary"],
+              f", {REFINE_ITERATIONS} stretch iterations, boundary kept"),
+             ("camel_b", "camel_b_refined_free", refine,
+              f", {REFINE_ITERATIONS} stretch iterations, boundary let go")]
     lines = []
-    for name, extra in cases:
+    for name, tag, extra, what in cases:
         mesh = SHARED / "meshes/disk" / f"{name}.off"
-        tag = name + ("_refined" if extra else "")
         obj = pathlib.Path(folder) / f"{tag}.obj"
         report = json.loads(subprocess.run([bench.bin / "straightest_param", mesh, obj, *extra],
                                            check=True, capture_output=True, text=True).stdout)
         png = RESULTS / f"render_{tag}.png"
-        title = (f"{name}: straightest + measured" + (f", {REFINE_ITERATIONS} stretch iterations" if extra else "") +
-                 f" — L2 {report['l2_stretch']:.3f}, L∞ {report['linf_stretch']:.2f}, 0 flipped")
+        title = (f"{name}: straightest + {report['boundary_used']}{what} — L2 {report['l2_stretch']:.3f}, "
+                 f"L∞ {report['linf_stretch']:.2f}, {report['flipped_faces']} flipped")
         subprocess.run([sys.executable, REPO / "bench/render.py", obj, png, "--title", title], check=True)
         lines.append(f"![{tag}](bench/results/{png.name})")
     return "\n\n".join(lines)
