@@ -50,16 +50,29 @@ std::vector<Case> cases() {
   return all;
 }
 
+// A case's system with the circle boundary and its exact (LU) solution.
+struct CircleSystem {
+  Patch patch;
+  std::vector<double> weights;
+  Polygon boundary;
+  LocalUVs exact;
+};
+
+CircleSystem circleSystem(const Case& c) {
+  CircleSystem s{buildPatch(c.mesh.V, c.mesh.F), {}, {}, {}};
+  WeightCounts counts;
+  s.weights = computeWeights(s.patch, c.weights, counts);
+  s.boundary = circleBoundary(s.patch);
+  s.exact = InteriorSolver(s.patch, method(SolverMethod::Direct)).solve(s.weights, s.boundary);
+  return s;
+}
+
 TEST(InteriorSolver, MultigridMatchesSparseLu) {
   for (const Case& c : cases()) {
-    const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
-    WeightCounts counts;
-    const std::vector<double> weights = computeWeights(patch, c.weights, counts);
-    const Polygon boundary = circleBoundary(patch);
-    InteriorSolver direct(patch, method(SolverMethod::Direct));
-    InteriorSolver multigrid(patch, method(SolverMethod::Multigrid));
-    const LocalUVs expected = direct.solve(weights, boundary);
-    const LocalUVs got = multigrid.solve(weights, boundary);
+    const CircleSystem s = circleSystem(c);
+    InteriorSolver multigrid(s.patch, method(SolverMethod::Multigrid));
+    const LocalUVs& expected = s.exact;
+    const LocalUVs got = multigrid.solve(s.weights, s.boundary);
     const SolverStats& stats = multigrid.lastStats();
     EXPECT_TRUE(stats.multigrid) << c.name;
     EXPECT_FALSE(stats.fell_back) << c.name;
@@ -74,21 +87,17 @@ TEST(InteriorSolver, MultigridMatchesSparseLu) {
 // tighten() then reaches the tight tolerance from there.
 TEST(InteriorSolver, DefaultToleranceIsCloseToLuAndTightens) {
   for (const Case& c : cases()) {
-    const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
-    WeightCounts counts;
-    const std::vector<double> weights = computeWeights(patch, c.weights, counts);
-    const Polygon boundary = circleBoundary(patch);
-    InteriorSolver direct(patch, method(SolverMethod::Direct));
+    const CircleSystem s = circleSystem(c);
     SolverSettings loose;
     loose.method = SolverMethod::Multigrid;
-    InteriorSolver multigrid(patch, loose);
-    const LocalUVs expected = direct.solve(weights, boundary);
-    const LocalUVs got = multigrid.solve(weights, boundary);
+    InteriorSolver multigrid(s.patch, loose);
+    const LocalUVs& expected = s.exact;
+    const LocalUVs got = multigrid.solve(s.weights, s.boundary);
     EXPECT_LE(multigrid.lastStats().relative_residual, loose.tolerance) << c.name;
     EXPECT_LT(maxDifference(got, expected), 1e-6) << c.name;
     ASSERT_TRUE(multigrid.tighten()) << c.name;
     EXPECT_FALSE(multigrid.tighten()) << c.name;  // already tight
-    const LocalUVs tight = multigrid.solve(weights, boundary);
+    const LocalUVs tight = multigrid.solve(s.weights, s.boundary);
     EXPECT_LE(multigrid.lastStats().relative_residual, loose.tight_tolerance) << c.name;
     EXPECT_LT(maxDifference(tight, expected), 1e-9) << c.name;
   }
