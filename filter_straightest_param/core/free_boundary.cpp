@@ -86,8 +86,11 @@ FlatFace flatten(const Patch& patch, int f) {
 // systems or if the iteration does not converge.
 class GlobalSolver {
  public:
-  explicit GlobalSolver(Eigen::SparseMatrix<double> L) : L_(std::move(L)) {
-    const int n = static_cast<int>(L_.rows());
+  // Built here from its entries: a copied Eigen::SparseMatrix leaks its index array when the
+  // copy's second allocation fails (the allocation-failure tests found it).
+  GlobalSolver(int n, const std::vector<Eigen::Triplet<double>>& entries) {
+    L_.resize(n, n);
+    L_.setFromTriplets(entries.begin(), entries.end());
     if (n < 1000) return;  // LU territory in solve.h too
     std::vector<int> new_of(n, -1);
     order_.reserve(n);
@@ -244,10 +247,8 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
           entries.emplace_back(unknown(j), unknown(i), -w);
         }
       }
-    Eigen::SparseMatrix<double> L(n - 1, n - 1);
-    L.setFromTriplets(entries.begin(), entries.end());
+    GlobalSolver global(n - 1, entries);
     std::vector<Eigen::Triplet<double>>().swap(entries);
-    GlobalSolver global(std::move(L));
     Eigen::MatrixX2d solved(n - 1, 2);
 
     Eigen::MatrixX2d rhs(n - 1, 2);
