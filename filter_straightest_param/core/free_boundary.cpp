@@ -163,31 +163,9 @@ class GlobalSolver {
   std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> cholesky_;
 };
 
-// Faces that stretchMetrics would count as flipped or degenerate (same rule: not on the majority
-// side by more than 1e-14 of the total area), without the stretch: the line search tries
-// several lengths per step and measures only the one it takes.
-int flippedFaces(const Patch& patch, const LocalUVs& uv) {
-  const int faces = patch.real_face_count;
-  std::vector<double> area(faces);
-  double total = 0;
-  for (int f = 0; f < faces; ++f) {
-    const auto& t = patch.face[f];
-    const Eigen::Vector2d a = uv[t[1]] - uv[t[0]], b = uv[t[2]] - uv[t[0]];
-    area[f] = 0.5 * (a.x() * b.y() - a.y() * b.x());
-    total += area[f];
-  }
-  const double orientation = total < 0 ? -1.0 : 1.0;
-  const double tiny = 1e-14 * std::abs(total);
-  int flipped = 0;
-  for (double a : area)
-    if (!(orientation * a > tiny)) ++flipped;
-  return flipped;
-}
-
-}  // namespace
-
-bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
-  std::vector<Edge> edges = boundaryEdges(patch);
+// No two of these edges cross or touch, apart from neighbours at their shared vertex. The
+// edges come by value: they are sorted along x for the sweep.
+bool edgesAreSimple(std::vector<Edge> edges, const LocalUVs& uv) {
   auto low = [&](const Edge& e) { return std::min(uv[e[0]].x(), uv[e[1]].x()); };
   std::sort(edges.begin(), edges.end(),
             [&](const Edge& a, const Edge& b) { return low(a) < low(b); });
@@ -203,6 +181,12 @@ bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
     }
   }
   return true;
+}
+
+}  // namespace
+
+bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
+  return edgesAreSimple(boundaryEdges(patch), uv);
 }
 
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
@@ -227,6 +211,7 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
     for (auto& p : current) p *= scale;
     LocalUVs best = uv;
 
+    const std::vector<Edge> border = boundaryEdges(patch);  // the same for every check
     std::vector<FlatFace> flat(faces);
     for (int f = 0; f < faces; ++f) flat[f] = flatten(patch, f);
 
@@ -293,7 +278,7 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
         for (int v = 0; v < n; ++v)
           if (v != pinned)
             candidate[v] = current[v] + length * (solved.row(unknown(v)).transpose() - current[v]);
-        if (flippedFaces(patch, candidate) > 0 || !boundaryIsSimple(patch, candidate)) continue;
+        if (flippedFaceCount(patch, candidate) > 0 || !edgesAreSimple(border, candidate)) continue;
         StretchMetrics measured = stretchMetrics(patch, candidate);
         if (measured.flipped_faces > 0) continue;  // the same rule; kept as the last word
         taken = true;

@@ -50,12 +50,9 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
   });
   double area2d = 0, area3d = 0, weighted = 0, worst = 0;
   for (const Eigen::Vector2d& sums : area_sums) area2d += sums.x(), area3d += sums.y();
-  // Orientation is the layout's majority (a mirrored layout is still one-to-one; our own maps
-  // are always counter-clockwise).
-  const double orientation = area2d < 0 ? -1.0 : 1.0;
-  const double tiny = 1e-14 * std::abs(area2d);
+  const FlipRule rule(area2d);
   for (int f = 0; f < faces; ++f) {
-    if (!(orientation * stretch[f].area2d > tiny)) ++m.flipped_faces;
+    if (rule.flipped(stretch[f].area2d)) ++m.flipped_faces;
     weighted += stretch[f].l2 * stretch[f].l2 * stretch[f].area3d;
     worst = std::max(worst, stretch[f].linf);
   }
@@ -75,6 +72,23 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
   for (int v = 0; v < patch.vertexCount(); ++v)
     m.vertex_l2[v] = vertex_area[v] > 0 ? std::sqrt(vertex_sum[v] / vertex_area[v]) : 1.0;
   return m;
+}
+
+int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
+  const int faces = patch.real_face_count;
+  std::vector<double> area(faces);
+  double total = 0;
+  for (int f = 0; f < faces; ++f) {
+    const auto& t = patch.face[f];
+    const Eigen::Vector2d a = uv[t[1]] - uv[t[0]], b = uv[t[2]] - uv[t[0]];
+    area[f] = 0.5 * (a.x() * b.y() - a.y() * b.x());
+    total += area[f];
+  }
+  const FlipRule rule(total);
+  int flipped = 0;
+  for (double a : area)
+    if (rule.flipped(a)) ++flipped;
+  return flipped;
 }
 
 }  // namespace sdp

@@ -27,8 +27,24 @@ struct StretchMetrics {
   std::vector<double> vertex_l2;  // per vertex: area-weighted L2 of its faces, normalized
 };
 
-// UVs are per patch vertex. A face counts as flipped when its signed area is not above
-// 1e-14 of the total (that includes degenerate faces a renderer cannot invert).
+// The flip rule: a face counts as flipped unless its signed UV area lies on the layout's
+// majority side by more than 1e-14 of the total (so degenerate faces, which a renderer cannot
+// invert, count too). A mirrored layout is still one-to-one; our own maps are counter-clockwise.
+class FlipRule {
+ public:
+  explicit FlipRule(double total_signed_area)
+      : orientation_(total_signed_area < 0 ? -1.0 : 1.0),
+        tiny_(1e-14 * (total_signed_area < 0 ? -total_signed_area : total_signed_area)) {}
+  bool flipped(double signed_area) const { return !(orientation_ * signed_area > tiny_); }
+
+ private:
+  double orientation_, tiny_;
+};
+
+// UVs are per patch vertex; flipped faces by FlipRule.
 StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vector2d>& uv);
+
+// Only the flipped-face count of stretchMetrics (same rule), without the stretch.
+int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv);
 
 }  // namespace sdp
