@@ -50,20 +50,21 @@ std::vector<Case> cases() {
   return all;
 }
 
-// A case's system with the circle boundary and its exact (LU) solution.
+// A case's system with the circle boundary.
 struct CircleSystem {
   Patch patch;
   std::vector<double> weights;
   Polygon boundary;
-  LocalUVs exact;
+  LocalUVs exactSolution() const {
+    return InteriorSolver(patch, method(SolverMethod::Direct)).solve(weights, boundary);
+  }
 };
 
 CircleSystem circleSystem(const Case& c) {
-  CircleSystem s{buildPatch(c.mesh.V, c.mesh.F), {}, {}, {}};
+  CircleSystem s{buildPatch(c.mesh.V, c.mesh.F), {}, {}};
   WeightCounts counts;
   s.weights = computeWeights(s.patch, c.weights, counts);
   s.boundary = circleBoundary(s.patch);
-  s.exact = InteriorSolver(s.patch, method(SolverMethod::Direct)).solve(s.weights, s.boundary);
   return s;
 }
 
@@ -71,7 +72,7 @@ TEST(InteriorSolver, MultigridMatchesSparseLu) {
   for (const Case& c : cases()) {
     const CircleSystem s = circleSystem(c);
     InteriorSolver multigrid(s.patch, method(SolverMethod::Multigrid));
-    const LocalUVs& expected = s.exact;
+    const LocalUVs expected = s.exactSolution();
     const LocalUVs got = multigrid.solve(s.weights, s.boundary);
     const SolverStats& stats = multigrid.lastStats();
     EXPECT_TRUE(stats.multigrid) << c.name;
@@ -91,7 +92,7 @@ TEST(InteriorSolver, DefaultToleranceIsCloseToLuAndTightens) {
     SolverSettings loose;
     loose.method = SolverMethod::Multigrid;
     InteriorSolver multigrid(s.patch, loose);
-    const LocalUVs& expected = s.exact;
+    const LocalUVs expected = s.exactSolution();
     const LocalUVs got = multigrid.solve(s.weights, s.boundary);
     EXPECT_LE(multigrid.lastStats().relative_residual, loose.tolerance) << c.name;
     EXPECT_LT(maxDifference(got, expected), 1e-6) << c.name;
@@ -105,16 +106,13 @@ TEST(InteriorSolver, DefaultToleranceIsCloseToLuAndTightens) {
 
 // u and v on two threads give the lockstep answer (each column is the same BiCGSTAB).
 TEST(InteriorSolver, ParallelColumnsMatchLockstep) {
-  const Case c = cases().front();
-  const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
-  WeightCounts counts;
-  const std::vector<double> weights = computeWeights(patch, c.weights, counts);
-  const Polygon boundary = circleBoundary(patch);
+  const CircleSystem s = circleSystem(cases().front());
   SolverSettings threads = method(SolverMethod::Multigrid);
   threads.parallel_columns = true;
-  InteriorSolver lockstep(patch, method(SolverMethod::Multigrid)), parallel(patch, threads);
-  EXPECT_LT(maxDifference(lockstep.solve(weights, boundary), parallel.solve(weights, boundary)),
-            1e-12);
+  InteriorSolver lockstep(s.patch, method(SolverMethod::Multigrid)), parallel(s.patch, threads);
+  EXPECT_LT(
+      maxDifference(lockstep.solve(s.weights, s.boundary), parallel.solve(s.weights, s.boundary)),
+      1e-12);
 }
 
 // A new boundary reuses the whole hierarchy; new weights (refinement) keep the aggregates. Both
@@ -151,41 +149,31 @@ TEST(InteriorSolver, LaterCallsReuseTheHierarchyAndStayExact) {
 // One BiCGSTAB iteration cannot reach 1e-14: the solver must hand the system to LU, say so, and
 // stay with LU afterwards.
 TEST(InteriorSolver, NonConvergenceFallsBackToLu) {
-  const Case c = cases().front();
-  const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
-  WeightCounts counts;
-  const std::vector<double> weights = computeWeights(patch, c.weights, counts);
-  const Polygon boundary = circleBoundary(patch);
+  const CircleSystem s = circleSystem(cases().front());
   SolverSettings hopeless = method(SolverMethod::Multigrid);
   hopeless.max_iterations = 1;
   hopeless.tolerance = 1e-14;
-  InteriorSolver solver(patch, hopeless);
-  InteriorSolver direct(patch, method(SolverMethod::Direct));
-  const LocalUVs expected = direct.solve(weights, boundary);
-  const LocalUVs got = solver.solve(weights, boundary);
+  InteriorSolver solver(s.patch, hopeless);
+  const LocalUVs expected = s.exactSolution();
+  const LocalUVs got = solver.solve(s.weights, s.boundary);
   EXPECT_TRUE(solver.lastStats().fell_back);
   EXPECT_EQ(solver.lastStats().iterations, 1);
   EXPECT_LT(solver.lastStats().relative_residual, 1e-12);  // the LU answer's
   EXPECT_LT(maxDifference(got, expected), 1e-12);
-  solver.solve(weights, boundary);
+  solver.solve(s.weights, s.boundary);
   EXPECT_FALSE(solver.lastStats().multigrid);
 }
 
 // A strength threshold no connection meets leaves nothing to aggregate: the hierarchy would be
 // one huge dense level, so the solver must not build it and must use LU instead.
 TEST(InteriorSolver, StalledCoarseningFallsBackToLu) {
-  const Case c = cases().front();
-  const Patch patch = buildPatch(c.mesh.V, c.mesh.F);
-  WeightCounts counts;
-  const std::vector<double> weights = computeWeights(patch, c.weights, counts);
-  const Polygon boundary = circleBoundary(patch);
+  const CircleSystem s = circleSystem(cases().front());
   SolverSettings stalled = method(SolverMethod::Multigrid);
   stalled.multigrid.strength = 10;
-  InteriorSolver solver(patch, stalled);
-  InteriorSolver direct(patch, method(SolverMethod::Direct));
-  const LocalUVs got = solver.solve(weights, boundary);
+  InteriorSolver solver(s.patch, stalled);
+  const LocalUVs got = solver.solve(s.weights, s.boundary);
   EXPECT_TRUE(solver.lastStats().fell_back);
-  EXPECT_LT(maxDifference(got, direct.solve(weights, boundary)), 1e-12);
+  EXPECT_LT(maxDifference(got, s.exactSolution()), 1e-12);
 }
 
 // Automatic: LU below the size where it wins, multigrid above it.
