@@ -26,7 +26,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "meshlab"))
 import meshgen  # noqa: E402
-from meshgen import Failure, check  # noqa: E402
+from meshgen import check  # noqa: E402
 from check_obj_uv import read_obj, sander_stretch  # noqa: E402
 
 PREFIX = "straightest_param: "
@@ -532,13 +532,7 @@ def main():
     if args.case == "out_of_memory" and not (args.big and os.path.isfile(args.big)):
         parser.error("out_of_memory needs --big MESH.off")
     cli = Cli(os.path.abspath(args.exe), os.path.abspath(args.workdir), args.shared)
-    try:
-        CASES[args.case](cli, args)
-    except Failure as failure:
-        print(f"FAIL: {args.case}: {failure}")
-        return 1
-    print(f"PASS: {args.case}")
-    return 0
+    return meshgen.report_case(args.case, lambda: CASES[args.case](cli, args))
 
 
 if __name__ == "__main__":

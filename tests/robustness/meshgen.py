@@ -18,6 +18,17 @@ def check(condition, message):
         raise Failure(message)
 
 
+def report_case(name, run):
+    """Runs one case (a callable), prints PASS or FAIL with the reason, returns the exit status."""
+    try:
+        run()
+    except Failure as failure:
+        print(f"FAIL: {name}: {failure}")
+        return 1
+    print(f"PASS: {name}")
+    return 0
+
+
 def grid(n, sx=1.0, sy=1.0, height=lambda x, y: 0.0, m=None):
     """An (n+1) x (m+1) grid over [0, sx] x [0, sy] with alternating diagonals (a disk)."""
     m = n if m is None else m

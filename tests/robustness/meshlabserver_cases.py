@@ -28,7 +28,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "meshlab"))
 import meshgen  # noqa: E402
-from meshgen import Failure, check  # noqa: E402
+from meshgen import check  # noqa: E402
 from check_obj_uv import read_obj, sander_stretch  # noqa: E402
 
 FILTER = "Parametrization: Straightest Distances"
@@ -374,16 +374,9 @@ def main():
     server = Server(os.path.abspath(args.prefix), args.mlx, os.path.abspath(args.workdir))
     if args.case == "out_of_memory" and not (args.big and os.path.isfile(args.big)):
         parser.error("out_of_memory needs --big MESH.off")
-    try:
-        if args.case == "out_of_memory":
-            case_out_of_memory(server, args.big)
-        else:
-            CASES[args.case](server)
-    except Failure as failure:
-        print(f"FAIL: {args.case}: {failure}")
-        return 1
-    print(f"PASS: {args.case}")
-    return 0
+    if args.case == "out_of_memory":
+        return meshgen.report_case(args.case, lambda: case_out_of_memory(server, args.big))
+    return meshgen.report_case(args.case, lambda: CASES[args.case](server))
 
 
 if __name__ == "__main__":
