@@ -6,8 +6,7 @@
 
 #include "filter_straightest_param/filter_description.h"
 #include "vcg_adapters/filter_run.h"
-#include "vcg_adapters/meshlab_support.h"
-#include "vcg_adapters/patch_adapter.h"
+#include "vcg_adapters/mesh_model_run.h"
 
 namespace adapter = sdp::vcg_adapter;
 
@@ -64,8 +63,6 @@ bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
   try {
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
-    const sdp::filter::FilterValues values = adapter::readFilterValues(parameters);
-    adapter::checkTextureValues(values);
 
     adapter::ProgressSink progress;
     if (cb != nullptr) {
@@ -74,29 +71,17 @@ bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
         cb(percent, ("straightest distances: " + std::string(stage) + "\n").c_str());
       };
     }
-    const adapter::FilterRun run = adapter::runParameterization(mm->cm, values, progress);
-
-    adapter::WriteOptions write;
-    // Per-vertex UVs only where the mesh already had them, so they do not go stale.
-    write.vertex_texcoords = mm->hasDataMask(MeshModel::MM_VERTTEXCOORD);
-    const auto stored = adapter::prepareResult<CMeshO>(run.input, run.result, write);
-    // Nothing below runs unless the core succeeded; the texture is written before the mesh
-    // changes, so its failure too leaves the mesh as it was.
-    const adapter::CheckerTexture texture = adapter::writeCheckerTexture(
-        mm->fullName(), values.texture_name, values.texture_size, values.checkers);
-
-    mm->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_FACEQUALITY);
-    adapter::applyResult(mm->cm, run.input, stored, write);
+    const adapter::MeshModelRun done = adapter::parameterizeMeshModel(*mm, parameters, progress);
 
     // 2020.09 loads cm.textures relative to the process's current folder (not the mesh's), so
     // the absolute path is what lets the GUI show the checkerboard at once; the OBJ exporter
     // writes it to map_Kd as is.
     mm->cm.textures.clear();
-    mm->cm.textures.push_back(texture.path.toStdString());
+    mm->cm.textures.push_back(done.texture.path.toStdString());
 
-    for (const std::string& line : adapter::reportLines(run, stored.metrics))
+    for (const std::string& line : adapter::reportLines(done.run, done.stored_metrics))
       Log("%s", line.c_str());
-    Log("texture %s", qUtf8Printable(texture.path));
+    Log("texture %s", qUtf8Printable(done.texture.path));
     if (cb != nullptr) cb(100, "straightest distances: done\n");
     return true;
   } catch (const std::bad_alloc&) {

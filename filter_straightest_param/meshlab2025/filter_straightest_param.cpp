@@ -7,8 +7,7 @@
 
 #include "filter_straightest_param/filter_description.h"
 #include "vcg_adapters/filter_run.h"
-#include "vcg_adapters/meshlab_support.h"
-#include "vcg_adapters/patch_adapter.h"
+#include "vcg_adapters/mesh_model_run.h"
 
 namespace adapter = sdp::vcg_adapter;
 
@@ -70,35 +69,22 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
   try {
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
-    const sdp::filter::FilterValues values = adapter::readFilterValues(parameters);
-    adapter::checkTextureValues(values);
 
     adapter::ProgressSink progress;
     if (cb != nullptr) progress = [cb](int percent, const char* stage) { cb(percent, stage); };
-    const adapter::FilterRun run = adapter::runParameterization(mm->cm, values, progress);
-
-    adapter::WriteOptions write;
-    // Per-vertex UVs only where the mesh already had them, so they do not go stale.
-    write.vertex_texcoords = mm->hasDataMask(MeshModel::MM_VERTTEXCOORD);
-    const auto stored = adapter::prepareResult<CMeshO>(run.input, run.result, write);
-    // Only after the core and prepareResult succeeded: the texture file, then the mesh.
-    const adapter::CheckerTexture texture = adapter::writeCheckerTexture(
-        mm->fullName(), values.texture_name, values.texture_size, values.checkers);
-
-    mm->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_FACEQUALITY);
-    adapter::applyResult(mm->cm, run.input, stored, write);
+    const adapter::MeshModelRun done = adapter::parameterizeMeshModel(*mm, parameters, progress);
 
     // 2025.07 keeps the image in memory under its file name; saving the mesh writes it beside
     // the saved file, and the GUI shows it from memory.
     mm->clearTextures();
-    mm->addTexture(texture.name.toStdString(), texture.image);
+    mm->addTexture(done.texture.name.toStdString(), done.texture.image);
 
-    for (const std::string& line : adapter::reportLines(run, stored.metrics))
+    for (const std::string& line : adapter::reportLines(done.run, done.stored_metrics))
       log("%s", line.c_str());
-    log("texture %s", qUtf8Printable(texture.path));
+    log("texture %s", qUtf8Printable(done.texture.path));
     if (cb != nullptr) cb(100, "done");
 
-    const adapter::ReportValues r = adapter::reportValues(run, stored.metrics);
+    const adapter::ReportValues r = adapter::reportValues(done.run, done.stored_metrics);
     return {
         {"l2_stretch", QVariant(r.l2_stretch)},       {"linf_stretch", QVariant(r.linf_stretch)},
         {"flipped_faces", QVariant(r.flipped_faces)}, {"fallbacks", QVariant(r.fallbacks)},
