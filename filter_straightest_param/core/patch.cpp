@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "error.h"
@@ -66,6 +67,17 @@ Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
     const double extent = (0.5 * high - 0.5 * low).maxCoeff() * 2;
     if (!std::isfinite(extent))
       fail("the coordinates are too large to compute with (their range overflows)");
+    // The map is returned in the mesh's units (UV area = 3D area), so its areas must stay
+    // normal doubles: a mesh spanning 1e290 units would give infinite UV areas.
+    constexpr double kLargestExtent = 1e100, kSmallestExtent = 1e-100;
+    if (extent > kLargestExtent || (extent > 0 && extent < kSmallestExtent)) {
+      char numbers[128];
+      std::snprintf(numbers, sizeof numbers,
+                    "the mesh spans %.3g units; 1e-100 to 1e100 are supported (areas in its "
+                    "units would leave the double range)",
+                    extent);
+      fail(numbers);
+    }
     p.unit = extent > 0 ? extent : 1.0;
     for (auto& q : p.position) q = (q - centre) / p.unit;
   }
