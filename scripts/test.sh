@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole test suite on a fresh Debian 12 machine (the README's test command; CI runs it):
-#  1. installs dependencies, builds everything (core, CLI, both MeshLab plugins, tests, bench)
+#  1. installs dependencies, checks that every C++ file is clang-formatted, builds everything (core, CLI, both MeshLab plugins, tests, bench)
 #     and runs ctest: core and CLI GoogleTests, robustness cases, real meshlabserver and the
 #     MeshLab GUI under Xvfb, and pytest inside real pymeshlab;
 #  2. builds the core, CLI and their tests again with AddressSanitizer + UBSan and runs them;
@@ -15,6 +15,7 @@ cd "$repo_dir"
 build_dir="${SDP_BUILD_DIR:-$repo_dir/build}"
 
 bash scripts/install-deps.sh
+bash scripts/check-format.sh
 
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" -j"${SDP_JOBS:-$(nproc)}"
