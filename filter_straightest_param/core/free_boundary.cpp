@@ -11,13 +11,9 @@
 #include <new>
 
 namespace sdp {
-namespace {
 
-using Edge = std::array<int, 2>;
-
-// Edges with a real face on one side only: the outer loop and the hole loops.
-std::vector<Edge> boundaryEdges(const Patch& patch) {
-  std::vector<Edge> edges;
+std::vector<BorderEdge> boundaryEdges(const Patch& patch) {
+  std::vector<BorderEdge> edges;
   for (int f = 0; f < patch.real_face_count; ++f)
     for (int c = 0; c < 3; ++c) {
       const int across = patch.face_across[f][c];
@@ -26,6 +22,10 @@ std::vector<Edge> boundaryEdges(const Patch& patch) {
     }
   return edges;
 }
+
+namespace {
+
+using Edge = BorderEdge;
 
 double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   const Eigen::Vector2d u = b - a, v = c - a;
@@ -163,9 +163,9 @@ class GlobalSolver {
   std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> cholesky_;
 };
 
-// No two of these edges cross or touch, apart from neighbours at their shared vertex. The
-// edges come by value: they are sorted along x for the sweep.
-bool edgesAreSimple(std::vector<Edge> edges, const LocalUVs& uv) {
+}  // namespace
+
+bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv) {
   auto low = [&](const Edge& e) { return std::min(uv[e[0]].x(), uv[e[1]].x()); };
   std::sort(edges.begin(), edges.end(),
             [&](const Edge& a, const Edge& b) { return low(a) < low(b); });
@@ -182,8 +182,6 @@ bool edgesAreSimple(std::vector<Edge> edges, const LocalUVs& uv) {
   }
   return true;
 }
-
-}  // namespace
 
 bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
   return edgesAreSimple(boundaryEdges(patch), uv);

@@ -8,6 +8,7 @@
 // flipped face whose boundary curves do not cross is one-to-one, so the guarantee holds.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "metrics.h"
@@ -27,6 +28,14 @@ struct FreeBoundaryCounts {
 // Virtual hole-fill vertices keep their start positions; they are not part of the user's mesh.
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                StretchMetrics& metrics, FreeBoundaryCounts& counts);
+
+// Edges with a real face on one side only: the outer loop and the hole loops.
+using BorderEdge = std::array<int, 2>;
+std::vector<BorderEdge> boundaryEdges(const Patch& patch);
+
+// No two of these edges cross or touch, apart from neighbours at their shared vertex. The
+// edges come by value: they are sorted along x for the sweep.
+bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv);
 
 // True when no two edges that bound the real faces (outer loop and holes) cross or touch,
 // apart from neighbours meeting at their shared vertex.

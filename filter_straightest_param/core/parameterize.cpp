@@ -12,6 +12,7 @@
 #include "metrics.h"
 #include "patch.h"
 #include "solve.h"
+#include "stretch_newton.h"
 #include "weights.h"
 
 namespace sdp {
@@ -292,7 +293,10 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
       clock.begin("free_boundary", 95);
       FreeBoundaryCounts counts;
       uv = relaxWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, counts);
-      report.free_boundary_steps = counts.steps_taken;
+      // Then Newton steps on the L2 stretch itself: they go on where ARAP's optimum folds.
+      StretchNewtonCounts newton;
+      uv = minimizeStretchWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, newton);
+      report.free_boundary_steps = counts.steps_taken + newton.steps_taken;
       clock.end();
     }
   }

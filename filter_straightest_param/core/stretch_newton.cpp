@@ -1,0 +1,258 @@
+#include "stretch_newton.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <new>
+
+#include "free_boundary.h"
+
+namespace sdp {
+namespace {
+
+// J = sum_k uv_k g_k^T over the corners k: the gradients g_k of the corners' hat functions in
+// the flat 3D triangle.
+struct FaceFrame {
+  std::array<Eigen::Vector2d, 3> g;
+  double area = 0;  // 3D area; 0 for a face without one (it then adds nothing)
+};
+
+FaceFrame faceFrame(const Patch& patch, int f, double tiny_area) {
+  const auto& t = patch.face[f];
+  const Eigen::Vector3d e1 = patch.position[t[1]] - patch.position[t[0]];
+  const Eigen::Vector3d e2 = patch.position[t[2]] - patch.position[t[0]];
+  FaceFrame frame;
+  const double l1 = e1.norm(), twice_area = e1.cross(e2).norm();
+  if (!(0.5 * twice_area > tiny_area) || !(l1 > 0)) {
+    for (auto& g : frame.g) g.setZero();
+    return frame;
+  }
+  Eigen::Matrix2d edges;  // columns: the two edges from corner 0, laid flat
+  edges << l1, e1.dot(e2) / l1, 0, twice_area / l1;
+  const Eigen::Matrix2d inverse = edges.inverse();
+  frame.g[1] = inverse.row(0).transpose();
+  frame.g[2] = inverse.row(1).transpose();
+  frame.g[0] = -frame.g[1] - frame.g[2];
+  frame.area = 0.5 * twice_area;
+  return frame;
+}
+
+// (a, b, c, d) = J row by row: u's gradient, then v's.
+Eigen::Vector4d jacobian(const FaceFrame& frame, const std::array<int, 3>& t, const LocalUVs& uv) {
+  Eigen::Vector4d J = Eigen::Vector4d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    J.head<2>() += uv[t[k]].x() * frame.g[k];
+    J.tail<2>() += uv[t[k]].y() * frame.g[k];
+  }
+  return J;
+}
+
+double determinant(const Eigen::Vector4d& J) {
+  return J[0] * J[3] - J[1] * J[2];
+}
+
+// Q = sum A |J|^2 / det^2 and S = sum A det; Q * S is the scale-invariant energy (+inf when a
+// face with area has collapsed or flipped).
+struct Energy {
+  double Q = 0, S = 0;
+  double value() const { return Q * S; }
+};
+
+Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const LocalUVs& uv) {
+  Energy e;
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    if (frames[f].area == 0) continue;
+    const Eigen::Vector4d J = jacobian(frames[f], patch.face[f], uv);
+    const double det = determinant(J);
+    if (!(det > 0)) return {std::numeric_limits<double>::infinity(), 1.0};
+    e.Q += frames[f].area * J.squaredNorm() / (det * det);
+    e.S += frames[f].area * det;
+  }
+  return e;
+}
+
+// The largest t for which no face's signed UV area reaches zero along uv + t d.
+double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d) {
+  double limit = std::numeric_limits<double>::infinity();
+  auto cross = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
+    return x.x() * y.y() - x.y() * y.x();
+  };
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    const auto& t = patch.face[f];
+    const Eigen::Vector2d p0 = uv[t[1]] - uv[t[0]], p1 = uv[t[2]] - uv[t[0]];
+    const Eigen::Vector2d d0 = d[t[1]] - d[t[0]], d1 = d[t[2]] - d[t[0]];
+    // area(t) ~ qc + qb t + qa t^2
+    const double qa = cross(d0, d1), qb = cross(p0, d1) + cross(d0, p1), qc = cross(p0, p1);
+    auto consider = [&](double root) {
+      if (root > 0 && std::isfinite(root)) limit = std::min(limit, root);
+    };
+    if (qa == 0) {
+      if (qb != 0) consider(-qc / qb);
+      continue;
+    }
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc < 0) continue;
+    // Roots without cancellation: q = -(qb + sign(qb) sqrt(disc)) / 2, roots q / qa and qc / q.
+    const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+    consider(q / qa);
+    if (q != 0) consider(qc / q);
+  }
+  return limit;
+}
+
+}  // namespace
+
+LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
+                                         StretchMetrics& metrics, StretchNewtonCounts& counts) {
+  const int n = patch.real_vertex_count;
+  const int faces = patch.real_face_count;
+  if (steps <= 0 || n < 3 || faces == 0) return uv;
+  if (n > kStretchNewtonMaxVertices) {
+    counts.skipped = true;
+    return uv;
+  }
+  LocalUVs best = uv;
+  try {
+    double total_area = 0;
+    for (int f = 0; f < faces; ++f) {
+      const auto& t = patch.face[f];
+      total_area += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
+                              .cross(patch.position[t[2]] - patch.position[t[0]])
+                              .norm();
+    }
+    if (!(total_area > 0)) return uv;
+    std::vector<FaceFrame> frames(faces);
+    for (int f = 0; f < faces; ++f) frames[f] = faceFrame(patch, f, 1e-14 * total_area);
+
+    // Start at the 3D size, as the ARAP steps do (the energy does not see the scale; the
+    // Hessian's conditioning does).
+    LocalUVs current = uv;
+    auto rescale = [&](LocalUVs& map) {
+      Energy e = energyOf(patch, frames, map);
+      if (!(e.S > 0) || !std::isfinite(e.Q)) return false;
+      const double s = std::sqrt(total_area / e.S);
+      for (int v = 0; v < n; ++v) map[v] *= s;
+      return true;
+    };
+    if (!rescale(current)) return uv;
+    Energy energy = energyOf(patch, frames, current);
+
+    const std::vector<BorderEdge> border = boundaryEdges(patch);
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor;
+    bool analyzed = false;
+    std::vector<Eigen::Triplet<double>> entries;
+    Eigen::SparseMatrix<double> H(2 * n, 2 * n);
+    Eigen::VectorXd gradient(2 * n), direction(2 * n);
+    LocalUVs step(current.size(), Eigen::Vector2d::Zero()), candidate = current;
+
+    for (int it = 0; it < steps; ++it) {
+      // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature is
+      // left out, as the energy is scale-invariant and each step is rescaled).
+      gradient.setZero();
+      entries.clear();
+      entries.reserve(static_cast<size_t>(faces) * 36 + 2 * n);
+      for (int f = 0; f < faces; ++f) {
+        const FaceFrame& frame = frames[f];
+        if (frame.area == 0) continue;
+        const auto& t = patch.face[f];
+        const Eigen::Vector4d J = jacobian(frame, t, current);
+        const double det = determinant(J), fro = J.squaredNorm();
+        const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
+        const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
+        const Eigen::Vector4d dJ =
+            frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
+        Eigen::Matrix4d h = (2 / q2) * Eigen::Matrix4d::Identity() -
+                            (4 / q3) * (J * cof.transpose() + cof * J.transpose()) +
+                            (6 * fro / q4) * cof * cof.transpose();
+        h(0, 3) -= 2 * fro / q3;
+        h(3, 0) -= 2 * fro / q3;
+        h(1, 2) += 2 * fro / q3;
+        h(2, 1) += 2 * fro / q3;
+        h *= energy.S * frame.area;
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
+        const Eigen::Vector4d clamped =
+            eigen.eigenvalues().cwiseMax(1e-8 * energy.S * frame.area / q2);
+        h = eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
+        // d J / d (u0 u1 u2 v0 v1 v2)
+        Eigen::Matrix<double, 4, 6> D = Eigen::Matrix<double, 4, 6>::Zero();
+        for (int k = 0; k < 3; ++k) {
+          D.block<2, 1>(0, k) = frame.g[k];
+          D.block<2, 1>(2, 3 + k) = frame.g[k];
+        }
+        const Eigen::Matrix<double, 6, 1> g6 = D.transpose() * dJ;
+        const Eigen::Matrix<double, 6, 6> k6 = D.transpose() * h * D;
+        int index[6];
+        for (int k = 0; k < 3; ++k) {
+          index[k] = 2 * t[k];
+          index[3 + k] = 2 * t[k] + 1;
+        }
+        for (int r = 0; r < 6; ++r) {
+          gradient[index[r]] += g6[r];
+          for (int c = 0; c < 6; ++c) entries.emplace_back(index[r], index[c], k6(r, c));
+        }
+      }
+      // A small multiple of the identity fixes the translation the energy does not see.
+      double trace = 0;
+      for (const auto& e : entries)
+        if (e.row() == e.col()) trace += e.value();
+      const double shift = 1e-8 * trace / (2 * n);
+      for (int i = 0; i < 2 * n; ++i) entries.emplace_back(i, i, shift);
+      H.setFromTriplets(entries.begin(), entries.end());
+      if (!analyzed) {
+        factor.analyzePattern(H);
+        analyzed = true;
+      }
+      factor.factorize(H);
+      if (factor.info() != Eigen::Success) break;
+      direction = factor.solve(-gradient);
+      if (factor.info() != Eigen::Success || !direction.allFinite()) break;
+      double slope = gradient.dot(direction);
+      if (!(slope < 0)) {  // not a descent direction (numerically): plain gradient descent
+        direction = -gradient;
+        slope = -gradient.squaredNorm();
+        if (!(slope < 0)) break;
+      }
+      for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
+
+      // Capped short of the first collapse, then halved until the energy drops enough and
+      // the map passes the one-to-one checks.
+      double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
+      bool taken = false;
+      for (int halvings = 0; halvings <= 30 && !taken; ++halvings, length *= 0.5) {
+        for (int v = 0; v < n; ++v) candidate[v] = current[v] + length * step[v];
+        const Energy trial = energyOf(patch, frames, candidate);
+        if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) continue;
+        if (flippedFaceCount(patch, candidate) > 0 || !edgesAreSimple(border, candidate)) continue;
+        if (!rescale(candidate)) continue;
+        StretchMetrics measured = stretchMetrics(patch, candidate);
+        if (measured.flipped_faces > 0) continue;
+        taken = true;
+        ++counts.steps_taken;
+        current.swap(candidate);
+        const double before = energy.value();
+        energy = energyOf(patch, frames, current);
+        if (measured.l2 < metrics.l2) {
+          metrics = std::move(measured);
+          best = current;
+        }
+        if (!(energy.value() < before * (1 - 1e-9))) {
+          counts.stopped = true;  // converged as far as doubles tell
+          return best;
+        }
+      }
+      if (!taken) {
+        counts.stopped = true;
+        break;
+      }
+    }
+    return best;
+  } catch (const std::bad_alloc&) {
+    counts.skipped = true;  // the factor did not fit: keep the best map so far
+    return best;
+  }
+}
+
+}  // namespace sdp

@@ -1,0 +1,40 @@
+// Beyond the paper: Newton steps on the L2 stretch itself, with the boundary free. The
+// as-rigid-as-possible steps of free_boundary.h stop where their optimum folds (face.off,
+// camelhead.off: a fold-free map exists, but ARAP's target is not it). This minimizes Sander's
+// L2 directly: L2^2 = Q * S / A^2 with Q = sum_f A_f |J_f^-1|^2 / 2 (J_f the map from the flat
+// 3D triangle to its UV triangle, A_f its 3D area) and S = sum_f A_f det J_f (the UV area).
+// |J^-1|^2 = |J|^2 / det(J)^2 grows without bound as a face collapses, so the energy is its own
+// barrier against folds; each step is also capped below the first collapse along it, and
+// checked like the ARAP steps (no flipped face, no boundary crossing), so the map stays
+// one-to-one.
+//
+// The step: per face, the 4x4 Hessian of |J|^2 / det^2 made positive semi-definite (eigenvalues
+// clamped), mapped to the face's 6 UV coordinates, assembled into one sparse system over u and v
+// together and solved by a sparse Cholesky (LDLT) factor; the pattern's analysis is kept across
+// steps. u and v are coupled, so the project's multigrid (scalar M-matrices) does not apply:
+// meshes above kStretchNewtonMaxVertices skip these steps (memory and time of the factor).
+#pragma once
+
+#include <vector>
+
+#include "metrics.h"
+#include "patch.h"
+#include "solve.h"
+
+namespace sdp {
+
+constexpr int kStretchNewtonMaxVertices = 50000;
+
+struct StretchNewtonCounts {
+  int steps_taken = 0;
+  bool skipped = false;  // too many vertices, or the factor did not fit in memory
+  bool stopped = false;  // a step could not be taken, or the energy stopped decreasing
+};
+
+// Up to `steps` Newton steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the
+// map with the lowest L2 stretch seen (the start if none is lower) and its metrics in `metrics`.
+// Virtual hole-fill vertices keep their positions.
+LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
+                                         StretchMetrics& metrics, StretchNewtonCounts& counts);
+
+}  // namespace sdp
