@@ -49,8 +49,9 @@ options:
                           (nearest the centroid of the boundary vertices)
   --stretch-iterations K  stretch-minimizing refinement steps (default 0: the linear method)
   --fixed-boundary        refinement keeps the measured boundary where it is (default: after
-                          the reweighting, K checked steps that let it move too; circle and
-                          square boundaries always stay)
+                          the reweighting, K checked steps that let it move too, then on patches
+                          up to 50k vertices K Newton steps on the stretch; circle and square
+                          boundaries always stay)
   --outer-vertex N        patches with holes: a vertex on the loop to use as the outer
                           boundary (default: the longest loop; the others are filled virtually)
   --report FILE.json      also write the report to FILE.json

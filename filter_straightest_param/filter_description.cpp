@@ -52,7 +52,8 @@ const std::vector<ParameterDescription>& parameters() {
        "0 gives the paper's linear map. Each further iteration re-solves with weights that pull "
        "less towards stretched areas (lower stretch, still never folds); costs about one solve "
        "each. With the Measured boundary, as many checked steps then let the outline move too "
-       "(much lower stretch where faces touch the border); Circle and Square stay as they are.",
+       "(much lower stretch where faces touch the border; up to 50k vertices also Newton steps "
+       "on the stretch itself, slower); Circle and Square stay as they are.",
        ParameterType::Int,
        {},
        0,
