@@ -1,5 +1,6 @@
 #include "free_boundary.h"
 
+#include "error.h"
 #include "multigrid.h"
 
 #include <Eigen/Geometry>
@@ -188,7 +189,8 @@ bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
 }
 
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
-                               StretchMetrics& metrics, FreeBoundaryCounts& counts) {
+                               StretchMetrics& metrics, FreeBoundaryCounts& counts,
+                               const ProgressCallback& progress) {
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
@@ -236,6 +238,8 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
 
     Eigen::MatrixX2d rhs(n - 1, 2);
     for (int step = 0; step < steps; ++step) {
+      if (progress && !progress("free boundary", 95 + 2 * step / steps))
+        throw ParameterizationError("cancelled by the user");
       // Local step: the rotation closest to each face's current map (2x2 polar decomposition
       // in closed form). Global step: the positions that best fit all the rotated faces.
       rhs.setZero();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "metrics.h"
+#include "options.h"
 #include "patch.h"
 #include "solve.h"
 
@@ -26,8 +27,11 @@ struct FreeBoundaryCounts {
 // Up to `steps` steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the map with
 // the lowest L2 stretch seen (the start if no step lowers it) and its metrics in `metrics`.
 // Virtual hole-fill vertices keep their start positions; they are not part of the user's mesh.
+// `progress` (may be empty) is called before each step with "free boundary"; false cancels
+// (ParameterizationError "cancelled by the user").
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
-                               StretchMetrics& metrics, FreeBoundaryCounts& counts);
+                               StretchMetrics& metrics, FreeBoundaryCounts& counts,
+                               const ProgressCallback& progress = {});
 
 // Edges with a real face on one side only: the outer loop and the hole loops.
 using BorderEdge = std::array<int, 2>;

@@ -292,10 +292,12 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
         throw ParameterizationError("cancelled by the user");
       clock.begin("free_boundary", 95);
       FreeBoundaryCounts counts;
-      uv = relaxWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, counts);
+      uv = relaxWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, counts,
+                                 options.progress);
       // Then Newton steps on the L2 stretch itself: they go on where ARAP's optimum folds.
       StretchNewtonCounts newton;
-      uv = minimizeStretchWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, newton);
+      uv = minimizeStretchWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, newton,
+                                           options.progress);
       report.free_boundary_steps = counts.steps_taken + newton.steps_taken;
       clock.end();
     }

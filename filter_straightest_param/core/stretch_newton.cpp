@@ -8,6 +8,7 @@
 #include <limits>
 #include <new>
 
+#include "error.h"
 #include "free_boundary.h"
 
 namespace sdp {
@@ -106,7 +107,8 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
 }  // namespace
 
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
-                                         StretchMetrics& metrics, StretchNewtonCounts& counts) {
+                                         StretchMetrics& metrics, StretchNewtonCounts& counts,
+                                         const ProgressCallback& progress) {
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
@@ -149,6 +151,8 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     LocalUVs step(current.size(), Eigen::Vector2d::Zero()), candidate = current;
 
     for (int it = 0; it < steps; ++it) {
+      if (progress && !progress("free boundary", 97 + 2 * it / steps))
+        throw ParameterizationError("cancelled by the user");
       // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature is
       // left out, as the energy is scale-invariant and each step is rescaled).
       gradient.setZero();

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "metrics.h"
+#include "options.h"
 #include "patch.h"
 #include "solve.h"
 
@@ -33,8 +34,9 @@ struct StretchNewtonCounts {
 
 // Up to `steps` Newton steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the
 // map with the lowest L2 stretch seen (the start if none is lower) and its metrics in `metrics`.
-// Virtual hole-fill vertices keep their positions.
+// Virtual hole-fill vertices keep their positions. `progress` as in relaxWithFreeBoundary.
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
-                                         StretchMetrics& metrics, StretchNewtonCounts& counts);
+                                         StretchMetrics& metrics, StretchNewtonCounts& counts,
+                                         const ProgressCallback& progress = {});
 
 }  // namespace sdp

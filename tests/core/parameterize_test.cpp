@@ -138,6 +138,31 @@ TEST(Parameterize, ProgressIsReportedAndCancelStops) {
   }
 }
 
+// The refinement's free-boundary steps (which can take seconds) ask too, before every step: a
+// cancel at the first as-rigid-as-possible step (the second "free boundary" call; the first
+// opens the stage) or at the first Newton step (percent 97) stops the run.
+TEST(Parameterize, CancelStopsTheFreeBoundarySteps) {
+  const test::Mesh m = test::grid(10, 1, 1, [](double x, double y) { return 0.3 * x * y; });
+  for (const bool in_newton : {false, true}) {
+    Options o;
+    o.stretch_iterations = 3;
+    int free_boundary_calls = 0, last_percent = -1;
+    o.progress = [&](const char* stage, int percent) {
+      last_percent = percent;
+      if (std::string(stage) != "free boundary") return true;
+      ++free_boundary_calls;
+      return in_newton ? percent < 97 : free_boundary_calls < 2;
+    };
+    try {
+      parameterize(m.V, m.F, o);
+      FAIL() << "not cancelled, in_newton " << in_newton;
+    } catch (const ParameterizationError& e) {
+      EXPECT_STREQ(e.what(), "cancelled by the user");
+    }
+    EXPECT_EQ(last_percent, in_newton ? 97 : 95);
+  }
+}
+
 TEST(Parameterize, NeedleAndZeroAreaTrianglesStillGiveAOneToOneMap) {
   test::Mesh m = test::planarGrid(8);
   // Put an interior vertex on the far edge of one of its faces: that face has zero area.
