@@ -116,8 +116,9 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     counts.skipped = true;
     return uv;
   }
-  LocalUVs best = uv;
+  LocalUVs best;  // filled inside the try: its allocation may fail too
   try {
+    best = uv;
     double total_area = 0;
     for (int f = 0; f < faces; ++f) {
       const auto& t = patch.face[f];
@@ -153,8 +154,9 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     for (int it = 0; it < steps; ++it) {
       if (progress && !progress("free boundary", 97 + 2 * it / steps))
         throw ParameterizationError("cancelled by the user");
-      // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature is
-      // left out, as the energy is scale-invariant and each step is rescaled).
+      // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature and
+      // the cross terms dQ dS^T are left out, as the energy is scale-invariant and each step is
+      // rescaled: a positive definite approximation, so the step still descends).
       gradient.setZero();
       entries.clear();
       entries.reserve(static_cast<size_t>(faces) * 36 + 2 * n);
@@ -210,14 +212,23 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         analyzed = true;
       }
       factor.factorize(H);
-      if (factor.info() != Eigen::Success) break;
+      if (factor.info() != Eigen::Success) {
+        counts.stopped = true;
+        break;
+      }
       direction = factor.solve(-gradient);
-      if (factor.info() != Eigen::Success || !direction.allFinite()) break;
+      if (factor.info() != Eigen::Success || !direction.allFinite()) {
+        counts.stopped = true;
+        break;
+      }
       double slope = gradient.dot(direction);
       if (!(slope < 0)) {  // not a descent direction (numerically): plain gradient descent
         direction = -gradient;
         slope = -gradient.squaredNorm();
-        if (!(slope < 0)) break;
+        if (!(slope < 0)) {
+          counts.stopped = true;
+          break;
+        }
       }
       for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
 
@@ -229,8 +240,9 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         for (int v = 0; v < n; ++v) candidate[v] = current[v] + length * step[v];
         const Energy trial = energyOf(patch, frames, candidate);
         if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) continue;
-        if (flippedFaceCount(patch, candidate) > 0 || !edgesAreSimple(border, candidate)) continue;
+        // Checked at the scale it is returned at.
         if (!rescale(candidate)) continue;
+        if (flippedFaceCount(patch, candidate) > 0 || !edgesAreSimple(border, candidate)) continue;
         StretchMetrics measured = stretchMetrics(patch, candidate);
         if (measured.flipped_faces > 0) continue;
         taken = true;
@@ -255,7 +267,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     return best;
   } catch (const std::bad_alloc&) {
     counts.skipped = true;  // the factor did not fit: keep the best map so far
-    return best;
+    return best.empty() ? uv : best;
   }
 }
 

@@ -1,8 +1,9 @@
 // Beyond the paper: Newton steps on the L2 stretch itself, with the boundary free. The
 // as-rigid-as-possible steps of free_boundary.h stop where their optimum folds (face.off,
 // camelhead.off: a fold-free map exists, but ARAP's target is not it). This minimizes Sander's
-// L2 directly: L2^2 = Q * S / A^2 with Q = sum_f A_f |J_f^-1|^2 / 2 (J_f the map from the flat
-// 3D triangle to its UV triangle, A_f its 3D area) and S = sum_f A_f det J_f (the UV area).
+// L2 directly: L2^2 = Q * S / (2 A^2) with Q = sum_f A_f |J_f^-1|^2 (J_f the map from the flat
+// 3D triangle to its UV triangle, A_f its 3D area, A their sum) and S = sum_f A_f det J_f (the
+// UV area).
 // |J^-1|^2 = |J|^2 / det(J)^2 grows without bound as a face collapses, so the energy is its own
 // barrier against folds; each step is also capped below the first collapse along it, and
 // checked like the ARAP steps (no flipped face, no boundary crossing), so the map stays
