@@ -73,6 +73,7 @@ def main():
     parser.add_argument("--log", help="meshlabserver output holding the filter's report line")
     parser.add_argument("--l2-tolerance", type=float, default=2e-3,
                         help="relative; the OBJ keeps only 6 decimals per coordinate")
+    parser.add_argument("--max-l2", type=float, help="fail when the file's L2 stretch is above this")
     args = parser.parse_args()
 
     problems = []
@@ -115,6 +116,8 @@ def main():
     l2, linf = sander_stretch(triangles) if triangles and not flipped else (float("nan"),) * 2
     print(f"{args.obj}: {len(faces)} faces, {flipped} flipped, L2 {l2:.4f}, Linf {linf:.4f}, "
           f"textures {textures}")
+    if args.max_l2 is not None and not l2 <= args.max_l2:
+        problems.append(f"L2 stretch {l2:.4f} above {args.max_l2}")
     if args.log:
         with open(args.log, errors="replace") as f:
             logged = re.findall(r"L2 stretch ([0-9.eE+-]+)", f.read())
