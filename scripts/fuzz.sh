@@ -2,7 +2,7 @@
 # Fuzzes the mesh pipeline (reader -> parameterize -> verification) with libFuzzer under
 # AddressSanitizer + UBSan, in its own clang build folder (build-fuzz).
 #   bash scripts/fuzz.sh            the test suite's run: replay the regression inputs, then 120,000
-#                                   inputs from seed 1 and the seed meshes alone (about a minute).
+#                                   inputs from seed 1 and the seed meshes alone (5-6 minutes here).
 #                                   Every machine tries the same inputs, so a CI result reproduces.
 #   bash scripts/fuzz.sh --seconds 3600 [--seed N]   a longer run from a random seed (or N) that
 #                                   keeps its corpus in build-fuzz/corpus between runs: finds new
