@@ -24,6 +24,19 @@ std::vector<BorderEdge> boundaryEdges(const Patch& patch) {
   return edges;
 }
 
+std::array<Eigen::Vector2d, 3> flatTriangle(const Patch& patch, int f) {
+  const auto& t = patch.face[f];
+  const Eigen::Vector3d e1 = patch.position[t[1]] - patch.position[t[0]];
+  const Eigen::Vector3d e2 = patch.position[t[2]] - patch.position[t[0]];
+  const double l1 = e1.norm();
+  std::array<Eigen::Vector2d, 3> x;
+  x[0] = Eigen::Vector2d::Zero();
+  x[1] = Eigen::Vector2d(l1, 0);
+  x[2] =
+      l1 > 0 ? Eigen::Vector2d(e1.dot(e2) / l1, e1.cross(e2).norm() / l1) : Eigen::Vector2d::Zero();
+  return x;
+}
+
 namespace {
 
 using Edge = BorderEdge;
@@ -49,23 +62,16 @@ bool segmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eige
          (d3 == 0 && within(c, d, a)) || (d4 == 0 && within(c, d, b));
 }
 
-// The 3D triangle laid flat isometrically (corner 0 at the origin, corner 1 on the x axis) and
-// its cotangent weights: weight[k] belongs to the edge opposite corner k.
+// The 3D triangle laid flat and its cotangent weights: weight[k] belongs to the edge opposite
+// corner k.
 struct FlatFace {
   std::array<Eigen::Vector2d, 3> x;
   std::array<double, 3> weight;
 };
 
 FlatFace flatten(const Patch& patch, int f) {
-  const auto& t = patch.face[f];
-  const Eigen::Vector3d e1 = patch.position[t[1]] - patch.position[t[0]];
-  const Eigen::Vector3d e2 = patch.position[t[2]] - patch.position[t[0]];
   FlatFace flat;
-  const double l1 = e1.norm();
-  flat.x[0] = Eigen::Vector2d::Zero();
-  flat.x[1] = Eigen::Vector2d(l1, 0);
-  flat.x[2] =
-      l1 > 0 ? Eigen::Vector2d(e1.dot(e2) / l1, e1.cross(e2).norm() / l1) : Eigen::Vector2d::Zero();
+  flat.x = flatTriangle(patch, f);
   for (int k = 0; k < 3; ++k) {
     const Eigen::Vector2d u = flat.x[(k + 1) % 3] - flat.x[k], v = flat.x[(k + 2) % 3] - flat.x[k];
     const double cross = std::abs(u.x() * v.y() - u.y() * v.x());

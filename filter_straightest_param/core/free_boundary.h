@@ -33,6 +33,10 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
                                StretchMetrics& metrics, FreeBoundaryCounts& counts,
                                const ProgressCallback& progress = {});
 
+// Face f laid flat isometrically: corner 0 at the origin, corner 1 on the positive x axis,
+// corner 2 above it (all at the origin when edge 0 has no length).
+std::array<Eigen::Vector2d, 3> flatTriangle(const Patch& patch, int f);
+
 // Edges with a real face on one side only: the outer loop and the hole loops.
 using BorderEdge = std::array<int, 2>;
 std::vector<BorderEdge> boundaryEdges(const Patch& patch);

@@ -22,17 +22,15 @@ struct FaceFrame {
 };
 
 FaceFrame faceFrame(const Patch& patch, int f, double tiny_area) {
-  const auto& t = patch.face[f];
-  const Eigen::Vector3d e1 = patch.position[t[1]] - patch.position[t[0]];
-  const Eigen::Vector3d e2 = patch.position[t[2]] - patch.position[t[0]];
+  const std::array<Eigen::Vector2d, 3> x = flatTriangle(patch, f);
   FaceFrame frame;
-  const double l1 = e1.norm(), twice_area = e1.cross(e2).norm();
-  if (!(0.5 * twice_area > tiny_area) || !(l1 > 0)) {
+  const double twice_area = x[1].x() * x[2].y();
+  if (!(0.5 * twice_area > tiny_area)) {
     for (auto& g : frame.g) g.setZero();
     return frame;
   }
   Eigen::Matrix2d edges;  // columns: the two edges from corner 0, laid flat
-  edges << l1, e1.dot(e2) / l1, 0, twice_area / l1;
+  edges << x[1], x[2];
   const Eigen::Matrix2d inverse = edges.inverse();
   frame.g[1] = inverse.row(0).transpose();
   frame.g[2] = inverse.row(1).transpose();
@@ -132,16 +130,19 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
 
     // Start at the 3D size, as the ARAP steps do (the energy does not see the scale; the
     // Hessian's conditioning does).
-    LocalUVs current = uv;
-    auto rescale = [&](LocalUVs& map) {
-      Energy e = energyOf(patch, frames, map);
+    // Scaling by s multiplies S by s^2 and Q by 1 / s^2, so the energy of the rescaled map
+    // follows from `e`, the map's energy before.
+    auto rescale = [&](LocalUVs& map, Energy& e) {
       if (!(e.S > 0) || !std::isfinite(e.Q)) return false;
       const double s = std::sqrt(total_area / e.S);
       for (int v = 0; v < n; ++v) map[v] *= s;
+      e.Q /= s * s;
+      e.S = total_area;
       return true;
     };
-    if (!rescale(current)) return uv;
+    LocalUVs current = uv;
     Energy energy = energyOf(patch, frames, current);
+    if (!rescale(current, energy)) return uv;
 
     const std::vector<BorderEdge> border = boundaryEdges(patch);
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor;
@@ -238,10 +239,10 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
       bool taken = false;
       for (int halvings = 0; halvings <= 30 && !taken; ++halvings, length *= 0.5) {
         for (int v = 0; v < n; ++v) candidate[v] = current[v] + length * step[v];
-        const Energy trial = energyOf(patch, frames, candidate);
+        Energy trial = energyOf(patch, frames, candidate);
         if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) continue;
         // Checked at the scale it is returned at.
-        if (!rescale(candidate)) continue;
+        if (!rescale(candidate, trial)) continue;
         if (flippedFaceCount(patch, candidate) > 0 || !edgesAreSimple(border, candidate)) continue;
         StretchMetrics measured = stretchMetrics(patch, candidate);
         if (measured.flipped_faces > 0) continue;
@@ -249,7 +250,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         ++counts.steps_taken;
         current.swap(candidate);
         const double before = energy.value();
-        energy = energyOf(patch, frames, current);
+        energy = trial;
         if (measured.l2 < metrics.l2) {
           metrics = std::move(measured);
           best = current;
