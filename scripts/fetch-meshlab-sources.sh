@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Downloads Debian's MeshLab 2020.09 and 2025.07 upstream tarballs (they carry src/common and a
+# Downloads Debian's MeshLab 2020.09, 2022.02 and 2025.07 upstream tarballs (they carry src/common and a
 # full vcglib: the plugin headers no -dev package ships), checks their SHA256, extracts each once
 # and records the source folder in $SDP_CACHE_DIR/meshlab-<version>.path for cmake/plugins.cmake.
 # Safe to re-run: a verified tarball is not downloaded again, an extracted tree not re-extracted.
@@ -14,6 +14,7 @@ mkdir -p "$cache_dir/src"
 # version  file  sha256
 tarballs=(
   "2020.09 meshlab_2020.09+dfsg1.orig.tar.xz d6715352ff65caffdec0292858d4263eb0c3cbbf3b1e5c2e2bab218e3f234630"
+  "2022.02 meshlab_2022.02+dfsg1.orig.tar.xz 11da26ec46c3fbbbc806d410a3221542ec21ec13fdcc55d624304600029435fd"
   "2025.07 meshlab_2025.07~dfsg.orig.tar.xz d22c98d362f2a284e481af8dbfc272b2222f5b9c67b3cf8bec57d1c3161886f4"
 )
 fallback_mirror="http://deb.debian.org/debian"

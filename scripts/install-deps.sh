@@ -3,11 +3,14 @@
 #   - Debian packages: build tools (+ clang and its libFuzzer runtime), Qt5, Eigen, GoogleTest,
 #     CGAL (benchmark peers), MeshLab 2020.09 (GUI +
 #     meshlabserver), Xvfb and X tools for the headless MeshLab tests, ImageMagick for screenshots;
-#   - the MeshLab 2020.09 / 2025.07 sources whose headers the plugins compile against
+#   - the MeshLab 2020.09 / 2022.02 / 2025.07 sources whose headers the plugins compile against
 #     (scripts/fetch-meshlab-sources.sh);
+#   - Debian roots with the MeshLab 2022.02 (trixie) and 2025.07 (sid) GUIs that the plugins for
+#     those versions are linked against and tested in (scripts/make-meshlab-root.sh; needs root);
 #   - .venv/ with pymeshlab 2025.07 (the MeshLab the 2025.07 plugin runs in), pytest and numpy.
 #
 #   SDP_SKIP_APT=1     skip the Debian packages (e.g. when not root and they are already there)
+#   SDP_SKIP_ROOTS=1   skip the trixie/sid roots (their plugins then link unchecked, their tests skip)
 #   SDP_VENV_DIR=DIR   virtual environment folder (default: <repo>/.venv)
 set -euo pipefail
 
@@ -49,6 +52,12 @@ if [[ "${SDP_SKIP_APT:-0}" != 1 ]]; then
 fi
 
 "$repo_dir/scripts/fetch-meshlab-sources.sh"
+
+if [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
+  for suite in trixie sid; do
+    "$repo_dir/scripts/make-meshlab-root.sh" "$suite" >/dev/null
+  done
+fi
 
 # Debian's own python3 (not a pyenv/conda one first in PATH): python3-venv is installed for it.
 python=/usr/bin/python3
