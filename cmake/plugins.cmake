@@ -1,9 +1,18 @@
-# The two MeshLab shims over one core (see filter_straightest_param/filter_description.h):
-#   build/plugins/meshlab-2020.09/libfilter_straightest_param.so  Debian's meshlab + meshlabserver
-#   build/plugins/meshlab-2025.07/libfilter_straightest_param.so  pymeshlab 2025.7 (load_plugin)
-# Each compiles against its own MeshLab version's headers (src/common + vcglib), taken from the
-# Debian source tarballs that scripts/fetch-meshlab-sources.sh extracts into the cache folder.
-# A missing source folder skips that plugin with a warning: the core and the CLI still build.
+# One plugin per MeshLab build users run, from two shims over one core (one shim per plugin API;
+# see filter_straightest_param/filter_description.h):
+#   build/plugins/meshlab-2020.09/        MeshFilterInterface shim: Debian 12's meshlab + meshlabserver
+#   build/plugins/meshlab-2022.02/        FilterPlugin shim, float: Debian 13 (trixie) MeshLab
+#   build/plugins/meshlab-2025.07-float/  FilterPlugin shim, float: Debian sid / Ubuntu 26.04 MeshLab,
+#                                         the official 2025.07 AppImage
+#   build/plugins/meshlab-2025.07/        FilterPlugin shim, double: pymeshlab 2025.7 (load_plugin),
+#                                         the 2025.07d AppImage
+# each holding libfilter_straightest_param.so. MeshLab 2022+ loads only a plugin of its own version
+# (first 6 characters) and precision, hence a build each. Each compiles against its own MeshLab
+# version's headers (src/common + vcglib), taken from the Debian source tarballs that
+# scripts/fetch-meshlab-sources.sh extracts into the cache folder, and links that version's
+# libmeshlab-common.so where one is on this machine (Debian 12's, pymeshlab's, or the one in the
+# trixie/sid roots of scripts/make-meshlab-root.sh), so that every MeshLab symbol it uses is
+# checked at link time. A missing source folder skips that plugin with a warning.
 
 if(DEFINED ENV{SDP_CACHE_DIR})
   set(SDP_MESHLAB_CACHE_DIR "$ENV{SDP_CACHE_DIR}")
@@ -22,6 +31,7 @@ function(sdp_recorded_meshlab_source version out_var)
 endfunction()
 
 sdp_recorded_meshlab_source(2020.09 SDP_RECORDED_2020_SOURCE)
+sdp_recorded_meshlab_source(2022.02 SDP_RECORDED_2022_SOURCE)
 sdp_recorded_meshlab_source(2025.07 SDP_RECORDED_2025_SOURCE)
 # A cache entry left empty by an earlier configure (before the fetch) is filled in now; a path
 # the user set is kept.
@@ -34,6 +44,8 @@ endfunction()
 
 sdp_cache_path(MESHLAB_2020_SOURCE_DIR "${SDP_RECORDED_2020_SOURCE}" PATH
   "MeshLab 2020.09 source tree (src/common + vcglib); default: scripts/fetch-meshlab-sources.sh")
+sdp_cache_path(MESHLAB_2022_SOURCE_DIR "${SDP_RECORDED_2022_SOURCE}" PATH
+  "MeshLab 2022.02 source tree (src/common + src/vcglib); default: scripts/fetch-meshlab-sources.sh")
 sdp_cache_path(MESHLAB_2025_SOURCE_DIR "${SDP_RECORDED_2025_SOURCE}" PATH
   "MeshLab 2025.07 source tree (src/common + src/vcglib); default: scripts/fetch-meshlab-sources.sh")
 
@@ -63,6 +75,7 @@ sdp_cache_path(MESHLAB_2025_COMMON_LIBRARY "${SDP_PYMESHLAB_COMMON_DEFAULT}" FIL
 set(SDP_BUILT_MESHLAB_PLUGINS "")
 
 if(NOT EXISTS "${MESHLAB_2020_SOURCE_DIR}/src/common/interfaces.h"
+   AND NOT EXISTS "${MESHLAB_2022_SOURCE_DIR}/src/common/plugins/interfaces/filter_plugin.h"
    AND NOT EXISTS "${MESHLAB_2025_SOURCE_DIR}/src/common/plugins/interfaces/filter_plugin.h")
   message(WARNING "No MeshLab sources found: skipping both MeshLab plugins. "
                   "Run scripts/fetch-meshlab-sources.sh or set MESHLAB_2020_SOURCE_DIR / MESHLAB_2025_SOURCE_DIR.")
@@ -82,11 +95,14 @@ find_package(GLEW)
 # warnings are not ours). Default visibility on purpose: MLException thrown here must match the
 # one pymeshlab catches.
 function(sdp_add_meshlab_plugin target version scalar)
-  cmake_parse_arguments(ARG "ALLOW_UNDEFINED" "" "SOURCES;INCLUDE_DIRS;LIBRARIES" ${ARGN})
+  cmake_parse_arguments(ARG "ALLOW_UNDEFINED" "FOLDER" "SOURCES;INCLUDE_DIRS;LIBRARIES" ${ARGN})
+  if(NOT ARG_FOLDER)
+    set(ARG_FOLDER "meshlab-${version}")
+  endif()
   add_library(${target} MODULE ${ARG_SOURCES})
   set_target_properties(${target} PROPERTIES
     OUTPUT_NAME filter_straightest_param
-    LIBRARY_OUTPUT_DIRECTORY "${CMAKE_BINARY_DIR}/plugins/meshlab-${version}"
+    LIBRARY_OUTPUT_DIRECTORY "${CMAKE_BINARY_DIR}/plugins/${ARG_FOLDER}"
     AUTOMOC ON)
   target_include_directories(${target} SYSTEM PRIVATE ${ARG_INCLUDE_DIRS})
   target_include_directories(${target} PRIVATE "${PROJECT_SOURCE_DIR}")
@@ -123,7 +139,7 @@ else()
     LIBRARIES GLEW::GLEW OpenGL::GL "${MESHLAB_2020_COMMON_LIBRARY}")
   install(TARGETS filter_straightest_param_meshlab2020
           LIBRARY DESTINATION "${MESHLAB_2020_PLUGIN_INSTALL_DIR}" COMPONENT meshlab2020)
-  list(APPEND SDP_BUILT_MESHLAB_PLUGINS 2020.09)
+  list(APPEND SDP_BUILT_MESHLAB_PLUGINS meshlab-2020.09)
 endif()
 
 # --- MeshLab 2025.07 (pymeshlab 2025.7) ------------------------------------------------------
@@ -183,8 +199,52 @@ else()
       DEPENDS filter_straightest_param_meshlab2025
       COMMENT "Copying the 2025.07 plugin into ${SDP_PYMESHLAB_LIB_DIR}/plugins")
   endif()
-  list(APPEND SDP_BUILT_MESHLAB_PLUGINS 2025.07)
+  list(APPEND SDP_BUILT_MESHLAB_PLUGINS meshlab-2025.07)
 endif()
+
+# --- MeshLab 2022.02 and 2025.07 float GUIs (Debian trixie, Debian sid / Ubuntu 26.04) ---------
+# The FilterPlugin shim again, float, against each version's own headers. Their libmeshlab-common.so
+# comes from the Debian roots the tests run these GUIs in (scripts/make-meshlab-root.sh): linking it
+# checks every MeshLab symbol the plugin uses against that very build. Its own dependencies need a
+# newer glibc than this machine's, so they are not resolved here (--allow-shlib-undefined); the
+# plugin itself only needs this machine's glibc, which every newer release carries.
+set(SDP_MESHLAB_ROOTS_DIR "${SDP_MESHLAB_CACHE_DIR}/roots" CACHE PATH
+    "Debian roots with MeshLab 2022.02 (trixie/) and 2025.07 (sid/) (scripts/make-meshlab-root.sh)")
+function(sdp_add_filter_plugin_gui_build target version folder suite source_dir)
+  set(common "${SDP_MESHLAB_ROOTS_DIR}/${suite}/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so")
+  string(REPLACE "." "_" version_id "${version}")
+  set(MESHLAB_${version_id}_${suite}_COMMON_LIBRARY "${common}" CACHE FILEPATH
+      "libmeshlab-common.so of the MeshLab ${version} the ${folder} plugin runs in")
+  set(common "${MESHLAB_${version_id}_${suite}_COMMON_LIBRARY}")
+  if(NOT EXISTS "${source_dir}/src/common/plugins/interfaces/filter_plugin.h")
+    message(WARNING "MeshLab ${version} sources not found ('${source_dir}'): skipping the ${folder} "
+                    "plugin. Run scripts/fetch-meshlab-sources.sh.")
+    return()
+  endif()
+  set(libraries "")
+  set(allow_undefined ALLOW_UNDEFINED)
+  if(EXISTS "${common}")
+    set(libraries "${common}" "-Wl,--allow-shlib-undefined")
+    set(allow_undefined "")
+  else()
+    message(WARNING "${common} not found (scripts/make-meshlab-root.sh ${suite}): the ${folder} "
+                    "plugin leaves MeshLab symbols unchecked until MeshLab loads it.")
+  endif()
+  sdp_add_meshlab_plugin(${target} ${version} float ${allow_undefined} FOLDER ${folder}
+    SOURCES
+      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2025/filter_straightest_param.h
+      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2025/filter_straightest_param.cpp
+    INCLUDE_DIRS
+      "${source_dir}/src" "${source_dir}/src/common" "${source_dir}/src/vcglib"
+    LIBRARIES ${libraries})
+  # MeshLab has loaded its libmeshlab-common.so (by this soname) before any plugin.
+  set_target_properties(${target} PROPERTIES SKIP_BUILD_RPATH ON)
+  set(SDP_BUILT_MESHLAB_PLUGINS ${SDP_BUILT_MESHLAB_PLUGINS} ${folder} PARENT_SCOPE)
+endfunction()
+sdp_add_filter_plugin_gui_build(filter_straightest_param_meshlab2022 2022.02 meshlab-2022.02 trixie
+                                "${MESHLAB_2022_SOURCE_DIR}")
+sdp_add_filter_plugin_gui_build(filter_straightest_param_meshlab2025_float 2025.07
+                                meshlab-2025.07-float sid "${MESHLAB_2025_SOURCE_DIR}")
 
 if(SDP_BUILT_MESHLAB_PLUGINS)
   install(FILES "${PROJECT_SOURCE_DIR}/resources/straightest_param.mlx"
