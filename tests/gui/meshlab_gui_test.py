@@ -1,14 +1,23 @@
 #!/usr/bin/env python3
-"""The MeshLab 2020.09 GUI test: our filter run the way a user runs it, under Xvfb.
+"""The MeshLab GUI test: our filter run the way a user runs it, under Xvfb.
 
-Starts Xvfb on a free display and Debian's `meshlab` from a private prefix that holds our plugin
-(scripts/make-meshlab-prefix.sh), on a copy of a disk mesh in a work folder. Then, with xdotool:
+Starts Xvfb on a free display and a real MeshLab on a copy of a disk mesh in a work folder:
+  2020.09  Debian 12's `meshlab`, from a private prefix that holds our plugin
+           (scripts/make-meshlab-prefix.sh);
+  2022.02  Debian 13's (trixie) and 2025.07 Debian sid's `meshlab`, each in its Debian root
+  2025.07  (scripts/make-meshlab-root.sh), run with chroot in a private mount namespace (the
+           root gets /proc and the X socket, the host is not touched); our plugin sits in
+           MeshLab's per-user plugin folder, $HOME/.local/share/VCG/MeshLab_64bit_fp/
+           MeshLabExtraPlugins/<version>/, of a fresh HOME inside the root, as a user installs it.
+Then, with xdotool:
 the menus by keyboard, Filters (Alt+L, the "Fi&lters" mnemonic) -> Texture -> "Parametrization:
 Straightest Distances" (arrow keys, Enter); the parameter dialog opens; its Apply and Close
 buttons are clicked with the mouse; MeshLab is quit with Ctrl+Q (a "Close without saving?" prompt, if one comes, is answered Yes). Xvfb and
 MeshLab are always stopped, on failure too.
 
 Checks, each on real behaviour:
+  plugins  no "Error while loading plugins." window opened before the main window, nor is one
+           open once the mesh is drawn;
   menu     the Texture submenu opened with one row more than Debian's own Texture filters, the
            highlighted row is the one where our entry sorts (MeshLab sorts a category's filters
            by name), and the window that opens on Enter is titled with our filter's name
@@ -29,7 +38,7 @@ Screenshots (PNG) and logs go to OUT: 01_before.png, 02_menu.png, 03_dialog.png,
 layout.json (where the menus, the dialog and the 3D view were on screen).
 
 usage: meshlab_gui_test.py --plugin libfilter_straightest_param.so --mesh disk.off --out DIR
-                           [--prefix DIR]
+                           [--prefix DIR | --root DIR --meshlab-version 2022.02|2025.07]
 Python standard library only, plus the Xvfb, xdotool, xwininfo and ImageMagick (import, convert)
 command-line tools. Exit status 0 = pass, 1 = a check failed, 2 = a tool is missing.
 """
@@ -46,6 +55,7 @@ import time
 
 FILTER_NAME = "Parametrization: Straightest Distances"  # SPEC.md section 6
 MAIN_TITLE = r"^MeshLab 20[0-9.]+ - \["
+PLUGIN_ERROR_TITLE = r"^Error while loading plugins"  # MeshLab 2022+'s QMessageBox
 SCREEN = (1280, 900)
 # Filters menu of MeshLab 2020.09 (src/meshlab/mainwindow_Init.cpp, fillFilterMenu): "Apply filter"
 # (disabled until a filter has run, so the keyboard skips it), "Show current filter script", a
@@ -79,6 +89,19 @@ DEBIAN_2020_09_TEXTURE_FILTERS = [
     "Transfer: Vertex Attributes to Texture (1 or 2 meshes)",
     "Transfer: Vertex Color to Texture",
 ]
+# The same submenu of the MeshLab 2022.02 (Debian 13) and 2025.07 (Debian sid) packages, read off
+# their GUIs: 2022.02 adds libigl's Harmonic and LSCM filters and the texture defragmentation;
+# sid's 2025.07 has the defragmentation but no libigl filters (libigl is not packaged there).
+# Their Filters menus add an "Other" category at the end, after Camera.
+TEXTURE_FILTERS = {
+    "2020.09": DEBIAN_2020_09_TEXTURE_FILTERS,
+    "2022.02": DEBIAN_2020_09_TEXTURE_FILTERS + [
+        "Harmonic Parametrization", "Least Squares Conformal Maps Parametrization",
+        "Texture Map Defragmentation"],
+    "2025.07": DEBIAN_2020_09_TEXTURE_FILTERS + ["Texture Map Defragmentation"],
+}
+# "Applied filter NAME in N msec"; 2025.07 writes "Applied filter: NAME".
+APPLIED_LINE = r"Applied filter:? %s in \d+ msec"
 # filter_straightest_param/checkerboard.cpp: light squares, dark squares, grid lines.
 CHECKER_COLOURS = {(235, 235, 235), (40, 40, 40), (200, 40, 40)}
 TEXTURE_NAME = "straightest_checker.png"  # default of the `texturename` parameter
@@ -101,6 +124,7 @@ class Gui:
         self.env = None
         self.deadline = time.monotonic() + TOTAL_TIMEOUT
         self.started = time.monotonic()
+        self.root_folder = None  # the run's folder inside a Debian root, removed at the end
 
     # --- processes ------------------------------------------------------------------------
     def start_xvfb(self):
@@ -135,12 +159,30 @@ class Gui:
                         XDG_DATA_HOME=os.path.join(self.out, "xdg", "data"),
                         XDG_CACHE_HOME=os.path.join(self.out, "xdg", "cache"),
                         XDG_RUNTIME_DIR=os.path.join(self.out, "xdg", "runtime"))
+        self.popen_meshlab(["nice", "-n", "5", os.path.join(prefix, "bin", "meshlab"), mesh],
+                           cwd=workdir)
+
+    def start_meshlab_in_root(self, root, home, mesh, workdir):
+        """MeshLab of a Debian root; home, mesh and workdir are paths inside the root."""
+        runtime = os.path.join(home, "runtime")
+        os.makedirs(root + runtime, mode=0o700, exist_ok=True)
+        os.chmod(root + runtime, 0o700)
+        # A private mount namespace: /proc and the X socket are mounted into the root only for
+        # this process tree and vanish with it. No PID namespace: MeshLab would be its PID 1,
+        # which ignores SIGTERM.
+        script = ('mount -t proc proc "$1/proc" && mkdir -p "$1/tmp/.X11-unix" && '
+                  'mount --bind /tmp/.X11-unix "$1/tmp/.X11-unix" && '
+                  'cd "$1$2" && exec chroot "$1" env -i DISPLAY="$3" HOME="$4" '
+                  'XDG_RUNTIME_DIR="$5" PATH=/usr/bin:/bin nice -n 5 meshlab "$6"')
+        self.popen_meshlab(["unshare", "--mount", "--propagation", "private", "sh", "-c", script,
+                            "sh", root, workdir, self.env["DISPLAY"], home, runtime, mesh],
+                           cwd="/")
+
+    def popen_meshlab(self, command, cwd):
         self.meshlab_log_path = os.path.join(self.out, "meshlab.log")
         log = open(self.meshlab_log_path, "wb")
-        self.meshlab = subprocess.Popen(
-            ["nice", "-n", "5", os.path.join(prefix, "bin", "meshlab"), mesh],
-            cwd=workdir, env=self.env, stdout=log, stderr=subprocess.STDOUT,
-            start_new_session=True)
+        self.meshlab = subprocess.Popen(command, cwd=cwd, env=self.env, stdout=log,
+                                        stderr=subprocess.STDOUT, start_new_session=True)
 
     def stop(self):
         for name, proc in (("meshlab", self.meshlab), ("Xvfb", self.xvfb)):
@@ -354,22 +396,50 @@ def passed(name, detail):
 
 def run_test(args, gui):
     out = args.out
-    workdir = os.path.join(out, "work")
+    if args.root:
+        # Everything MeshLab reads or writes lives in the root, under one folder per run.
+        inside = "/tmp/sdp-gui-test-%s-%d" % (args.meshlab_version, os.getpid())
+        gui.root_folder = args.root + inside
+        home = inside + "/home"
+        plugins = (args.root + home + "/.local/share/VCG/MeshLab_64bit_fp/MeshLabExtraPlugins/"
+                   + args.meshlab_version)
+        os.makedirs(plugins)
+        shutil.copyfile(args.plugin, os.path.join(plugins, os.path.basename(args.plugin)))
+        workdir = args.root + inside + "/work"
+    else:
+        workdir = os.path.join(out, "work")
     os.makedirs(workdir)
     # The filter writes its texture next to the mesh: work on a copy, never in the shared folder.
     mesh = os.path.join(workdir, os.path.basename(args.mesh))
     shutil.copyfile(args.mesh, mesh)
 
-    here = os.path.dirname(os.path.abspath(__file__))
-    make_prefix = os.path.join(here, "..", "..", "scripts", "make-meshlab-prefix.sh")
-    subprocess.run(["bash", make_prefix, args.prefix, args.plugin], check=True,
-                   stdout=subprocess.DEVNULL)
+    if not args.root:
+        here = os.path.dirname(os.path.abspath(__file__))
+        make_prefix = os.path.join(here, "..", "..", "scripts", "make-meshlab-prefix.sh")
+        subprocess.run(["bash", make_prefix, args.prefix, args.plugin], check=True,
+                       stdout=subprocess.DEVNULL)
 
     gui.start_xvfb()
-    gui.start_meshlab(args.prefix, mesh, workdir)
+    if args.root:
+        gui.start_meshlab_in_root(args.root, home, mesh[len(args.root):],
+                                  workdir[len(args.root):])
+    else:
+        gui.start_meshlab(args.prefix, mesh, workdir)
 
     # --- main window, full screen (there is no window manager: resize it ourselves) --------
-    gui.main = gui.wait_window(MAIN_TITLE)[0]
+    # MeshLab 2022+ reports a plugin it refused (other version or precision, a missing library)
+    # in a modal "Error while loading plugins." box, before its main window shows; 2020.09 only
+    # prints it.
+    def main_window_or_refusal():
+        if gui.windows(PLUGIN_ERROR_TITLE):
+            return "refused"
+        found = gui.windows(MAIN_TITLE)
+        return found[0] if found else None
+    gui.main = gui.wait_for("the main window", main_window_or_refusal)
+    if gui.main == "refused":
+        time.sleep(1)  # let the box paint its text
+        gui.screenshot("01_plugin_error.png")
+        raise CheckFailed("MeshLab opened 'Error while loading plugins' (see 01_plugin_error.png)")
     gui.run("xdotool", "windowmove", str(gui.main), "0", "0")
     gui.run("xdotool", "windowsize", str(gui.main), str(SCREEN[0]), str(SCREEN[1]))
     gui.wait_for("the main window to fill the screen",
@@ -399,6 +469,11 @@ def run_test(args, gui):
     if shows_checkerboard(before):
         raise CheckFailed("the 3D view shows a checkerboard before the filter ran: " + fmt(before))
     passed("before", "3D view without checkerboard: " + fmt(before))
+    refused = gui.windows(PLUGIN_ERROR_TITLE)
+    if refused:
+        gui.screenshot("01_plugin_error.png")
+        raise CheckFailed("MeshLab opened 'Error while loading plugins' (see 01_plugin_error.png)")
+    passed("plugins", "no 'Error while loading plugins' window")
 
     # --- Filters -> Texture -> our entry, by keyboard ------------------------------------------
     gui.focus(gui.main)
@@ -409,7 +484,7 @@ def run_test(args, gui):
     texture_menu = gui.wait_for("the Texture submenu", lambda: [
         p for p in gui.popups() if p[0] not in {w for w, _ in filters_menu}])
     _, (mx, my, mw, mh) = texture_menu[0]
-    names = sorted(DEBIAN_2020_09_TEXTURE_FILTERS + [FILTER_NAME])  # QString order = code units
+    names = sorted(TEXTURE_FILTERS[args.meshlab_version] + [FILTER_NAME])  # QString order = code units
     index = names.index(FILTER_NAME)
     if index:
         gui.key(*(["Down"] * index))
@@ -466,9 +541,9 @@ def run_test(args, gui):
     # bottom edge: the centres of the two halves, 23 px above the bottom.
     log_before = gui.log_text()
     gui.click(dialog, dw * 3 // 4, dh - 23)
-    applied = "Applied filter %s" % FILTER_NAME
+    applied = APPLIED_LINE % re.escape(FILTER_NAME)
     gui.wait_for("'%s' in MeshLab's log" % applied,
-                 lambda: applied in gui.log_text()[len(log_before):], timeout=120)
+                 lambda: re.search(applied, gui.log_text()[len(log_before):]), timeout=120)
     report = [l for l in gui.log_text()[len(log_before):].splitlines() if "L2 stretch" in l]
     if not report or "flipped faces 0" not in report[0]:
         raise CheckFailed("no 'L2 stretch ... flipped faces 0' report line in meshlab.log")
@@ -545,15 +620,22 @@ def main():
     parser.add_argument("--mesh", required=True, help="a disk-shaped mesh (.off)")
     parser.add_argument("--out", required=True,
                         help="folder for screenshots, logs, work folder (replaces earlier ones)")
-    parser.add_argument("--prefix", help="private MeshLab prefix (default OUT/../gui-prefix)")
+    parser.add_argument("--prefix", help="private MeshLab 2020.09 prefix (default OUT/../gui-prefix)")
+    parser.add_argument("--root", help="a Debian root with a newer MeshLab (scripts/make-meshlab-root.sh)")
+    parser.add_argument("--meshlab-version", choices=sorted(TEXTURE_FILTERS), default="2020.09",
+                        help="the MeshLab version under test (2022.02 and 2025.07 need --root)")
     args = parser.parse_args()
+    if (args.root is None) != (args.meshlab_version == "2020.09"):
+        parser.error("--root goes with --meshlab-version 2022.02 or 2025.07")
+    if args.root:
+        args.root = os.path.abspath(args.root)
     args.out = os.path.abspath(args.out)
     args.plugin = os.path.abspath(args.plugin)
     args.mesh = os.path.abspath(args.mesh)
     args.prefix = os.path.abspath(args.prefix or os.path.join(args.out, "..", "gui-prefix"))
 
     missing = [t for t in ("Xvfb", "xdotool", "xwininfo", "import", "convert", "nice")
-               if shutil.which(t) is None]
+               + (("unshare", "chroot") if args.root else ()) if shutil.which(t) is None]
     if missing:
         print("FAIL: missing tools: %s (scripts/install-deps.sh installs them)" % " ".join(missing))
         return 2
@@ -568,8 +650,8 @@ def main():
         path = os.path.join(args.out, name)
         if name in ("work", "xdg") and os.path.isdir(path):
             shutil.rmtree(path)
-        elif re.fullmatch(r"(\d\d_\w+|failure)\.png|(meshlab|xvfb)\.log|result\.txt|layout\.json",
-                          name):
+        elif re.fullmatch(r"(\d\d_\w+|failure)\.png|(meshlab|xvfb)\.log|result\.txt|layout\.json|"
+                          + re.escape(TEXTURE_NAME), name):
             os.remove(path)
     gui = Gui(args.out)
 
@@ -597,6 +679,12 @@ def main():
         for signum in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
             signal.signal(signum, signal.SIG_IGN)  # let the cleanup finish
         gui.stop()
+        if gui.root_folder:
+            # Keep what a reader of a failure needs, then leave the cached root as it was.
+            texture = os.path.join(gui.root_folder, "work", TEXTURE_NAME)
+            if os.path.isfile(texture):
+                shutil.copyfile(texture, os.path.join(args.out, TEXTURE_NAME))
+            shutil.rmtree(gui.root_folder, ignore_errors=True)
     seconds = time.monotonic() - gui.started
     RESULTS.append("%s in %.1f s" % ("PASSED" if status == 0 else "FAILED", seconds))
     with open(os.path.join(args.out, "result.txt"), "w") as f:
