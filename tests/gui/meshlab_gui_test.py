@@ -448,7 +448,14 @@ def run_test(args, gui):
 
     # The 3D view: the largest child of the main window (the MDI area with the GL widget); its
     # lower part holds MeshLab's info overlay (FOV, FPS, mesh name), which is left out.
-    view = gui.wait_for("the 3D view", lambda: largest_child(gui, gui.main))
+    # MeshLab lays its panels out again after the resize (2025.07 under load took a while): the
+    # box counts once it is the same on two polls and starts at the left, where the view is.
+    def settled_view():
+        box = largest_child(gui, gui.main)
+        previous, settled_view.previous = settled_view.previous, box
+        return box if box and box == previous and box[0] < SCREEN[0] // 4 else None
+    settled_view.previous = None
+    view = gui.wait_for("the 3D view", settled_view, interval=0.5)
     x, y, w, h = view
     render_box = (x, y, w, int(h * 0.85))
     LAYOUT["view"] = list(view)
