@@ -210,7 +210,7 @@ endif()
 # plugin itself only needs this machine's glibc, which every newer release carries.
 set(SDP_MESHLAB_ROOTS_DIR "${SDP_MESHLAB_CACHE_DIR}/roots" CACHE PATH
     "Debian roots with MeshLab 2022.02 (trixie/) and 2025.07 (sid/) (scripts/make-meshlab-root.sh)")
-function(sdp_add_filter_plugin_gui_build target version folder suite source_dir)
+function(sdp_add_filter_plugin_gui_build target version folder suite source_dir component)
   set(common "${SDP_MESHLAB_ROOTS_DIR}/${suite}/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so")
   string(REPLACE "." "_" version_id "${version}")
   set(MESHLAB_${version_id}_${suite}_COMMON_LIBRARY "${common}" CACHE FILEPATH
@@ -239,12 +239,15 @@ function(sdp_add_filter_plugin_gui_build target version folder suite source_dir)
     LIBRARIES ${libraries})
   # MeshLab has loaded its libmeshlab-common.so (by this soname) before any plugin.
   set_target_properties(${target} PROPERTIES SKIP_BUILD_RPATH ON)
+  # Not into this machine's MeshLab (2020.09): the README says where each goes on its system.
+  install(TARGETS ${target} LIBRARY DESTINATION "lib/straightest_param/${folder}"
+          COMPONENT ${component})
   set(SDP_BUILT_MESHLAB_PLUGINS ${SDP_BUILT_MESHLAB_PLUGINS} ${folder} PARENT_SCOPE)
 endfunction()
 sdp_add_filter_plugin_gui_build(filter_straightest_param_meshlab2022 2022.02 meshlab-2022.02 trixie
-                                "${MESHLAB_2022_SOURCE_DIR}")
+                                "${MESHLAB_2022_SOURCE_DIR}" meshlab2022)
 sdp_add_filter_plugin_gui_build(filter_straightest_param_meshlab2025_float 2025.07
-                                meshlab-2025.07-float sid "${MESHLAB_2025_SOURCE_DIR}")
+                                meshlab-2025.07-float sid "${MESHLAB_2025_SOURCE_DIR}" meshlab2025float)
 
 if(SDP_BUILT_MESHLAB_PLUGINS)
   install(FILES "${PROJECT_SOURCE_DIR}/resources/straightest_param.mlx"

@@ -8,7 +8,8 @@ Starts Xvfb on a free display and a real MeshLab on a copy of a disk mesh in a w
   2025.07  (scripts/make-meshlab-root.sh), run with chroot in a private mount namespace (the
            root gets /proc and the X socket, the host is not touched); our plugin sits in
            MeshLab's per-user plugin folder, $HOME/.local/share/VCG/MeshLab_64bit_fp/
-           MeshLabExtraPlugins/<version>/, of a fresh HOME inside the root, as a user installs it.
+           MeshLabExtraPlugins/<version>/, of a fresh HOME inside the root, as a user installs it,
+           or (--install system) in the root's /usr/lib/x86_64-linux-gnu/meshlab/plugins.
 Then, with xdotool:
 the menus by keyboard, Filters (Alt+L, the "Fi&lters" mnemonic) -> Texture -> "Parametrization:
 Straightest Distances" (arrow keys, Enter); the parameter dialog opens; its Apply and Close
@@ -56,6 +57,7 @@ import time
 FILTER_NAME = "Parametrization: Straightest Distances"  # SPEC.md section 6
 MAIN_TITLE = r"^MeshLab 20[0-9.]+ - \["
 PLUGIN_ERROR_TITLE = r"^Error while loading plugins"  # MeshLab 2022+'s QMessageBox
+SYSTEM_PLUGIN_FOLDER = "/usr/lib/x86_64-linux-gnu/meshlab/plugins"  # Debian's, in a root
 SCREEN = (1280, 900)
 # Filters menu of MeshLab 2020.09 (src/meshlab/mainwindow_Init.cpp, fillFilterMenu): "Apply filter"
 # (disabled until a filter has run, so the keyboard skips it), "Show current filter script", a
@@ -125,6 +127,7 @@ class Gui:
         self.deadline = time.monotonic() + TOTAL_TIMEOUT
         self.started = time.monotonic()
         self.root_folder = None  # the run's folder inside a Debian root, removed at the end
+        self.system_plugin = None  # our plugin in a root's system plugin folder, removed too
 
     # --- processes ------------------------------------------------------------------------
     def start_xvfb(self):
@@ -401,10 +404,21 @@ def run_test(args, gui):
         inside = "/tmp/sdp-gui-test-%s-%d" % (args.meshlab_version, os.getpid())
         gui.root_folder = args.root + inside
         home = inside + "/home"
-        plugins = (args.root + home + "/.local/share/VCG/MeshLab_64bit_fp/MeshLabExtraPlugins/"
-                   + args.meshlab_version)
-        os.makedirs(plugins)
+        # The roots are the project's own cache: a copy of ours in the system folder can only be
+        # left by a run of this test that was killed.
+        stale = os.path.join(args.root + SYSTEM_PLUGIN_FOLDER, os.path.basename(args.plugin))
+        if os.path.exists(stale):
+            os.remove(stale)
+        if args.install == "system":
+            plugins = args.root + SYSTEM_PLUGIN_FOLDER
+            gui.system_plugin = os.path.join(plugins, os.path.basename(args.plugin))
+        else:
+            plugins = (args.root + home + "/.local/share/VCG/MeshLab_64bit_fp/MeshLabExtraPlugins/"
+                       + args.meshlab_version)
+            os.makedirs(plugins)
+        os.makedirs(args.root + home, exist_ok=True)
         shutil.copyfile(args.plugin, os.path.join(plugins, os.path.basename(args.plugin)))
+        log_line("plugin installed in %s" % plugins[len(args.root):])
         workdir = args.root + inside + "/work"
     else:
         workdir = os.path.join(out, "work")
@@ -631,6 +645,9 @@ def main():
     parser.add_argument("--root", help="a Debian root with a newer MeshLab (scripts/make-meshlab-root.sh)")
     parser.add_argument("--meshlab-version", choices=sorted(TEXTURE_FILTERS), default="2020.09",
                         help="the MeshLab version under test (2022.02 and 2025.07 need --root)")
+    parser.add_argument("--install", choices=("user", "system"), default="user",
+                        help="with --root: the per-user plugin folder of a fresh HOME, or the "
+                        "root's system folder (removed again at the end)")
     args = parser.parse_args()
     if (args.root is None) != (args.meshlab_version == "2020.09"):
         parser.error("--root goes with --meshlab-version 2022.02 or 2025.07")
@@ -692,6 +709,8 @@ def main():
             if os.path.isfile(texture):
                 shutil.copyfile(texture, os.path.join(args.out, TEXTURE_NAME))
             shutil.rmtree(gui.root_folder, ignore_errors=True)
+        if gui.system_plugin and os.path.exists(gui.system_plugin):
+            os.remove(gui.system_plugin)
     seconds = time.monotonic() - gui.started
     RESULTS.append("%s in %.1f s" % ("PASSED" if status == 0 else "FAILED", seconds))
     with open(os.path.join(args.out, "result.txt"), "w") as f:
