@@ -6,7 +6,7 @@ flattened layout.
 usage: render.py RESULT.obj OUT.png [--title TEXT]
 RESULT.obj is what straightest_param writes (v, vt, f v/vt). The checkerboard is the same
 pattern as the attached texture (16 squares per side, red grid lines); stretch is the per-face
-Sander L2 of SPEC §5, normalized so 1 is isometric, on a log colour scale."""
+Sander L2 of docs/method.md §5, normalized so 1 is isometric, on a log colour scale."""
 import argparse
 
 import numpy as np

@@ -1,4 +1,4 @@
-// straightest_param: flattens a disk-shaped mesh patch from the command line (SPEC.md §6).
+// straightest_param: flattens a disk-shaped mesh patch from the command line (docs/method.md §6).
 //
 // Contract with scripts: exit 0 and the report JSON on stdout on success; otherwise exactly one
 // line "straightest_param: <reason>" on stderr, exit 2 for usage errors and 1 for everything

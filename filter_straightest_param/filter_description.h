@@ -10,7 +10,7 @@
 
 namespace sdp::filter {
 
-// SPEC.md §6 names.
+// docs/method.md §6 names.
 extern const char* const kFilterName;  // "Parametrization: Straightest Distances"
 extern const char* const
     kPythonFilterName;     // "compute_texcoord_parametrization_straightest_distances"
@@ -23,7 +23,7 @@ struct ParameterDescription {
   std::string label;  // dialog label
   std::string help;   // tooltip, in the user's terms
   ParameterType type;
-  std::vector<std::string> enum_labels;  // Enum only, in SPEC order
+  std::vector<std::string> enum_labels;  // Enum only, in docs/method.md §6 order
   int int_default = 0;                   // Enum (index), Int, Bool (0/1)
   std::string string_default;            // String only
 };

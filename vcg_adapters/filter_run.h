@@ -35,7 +35,7 @@ FilterRun runParameterization(const MeshType& mesh, const sdp::filter::FilterVal
   FilterRun run;
   run.input = extractPatch(mesh, values.selected_only);
 
-  // sourcevertex is a mesh vertex index; a single selected vertex wins over it (SPEC §6).
+  // sourcevertex is a mesh vertex index; a single selected vertex wins over it (docs/method.md §6).
   int mesh_source = values.source_vertex;
   const int selected = singleSelectedVertex(mesh);
   if (selected >= 0) {
@@ -76,8 +76,8 @@ inline std::string formatReportValue(const char* format, double value) {
   return buffer;
 }
 
-// SPEC §6 report values (the pymeshlab dict). Stretch and flips describe the UVs as the mesh
-// stores them (see prepareResult()); the rest comes from the core's report.
+// docs/method.md §6 report values (the pymeshlab dict). Stretch and flips describe the UVs as the
+// mesh stores them (see prepareResult()); the rest comes from the core's report.
 struct ReportValues {
   double l2_stretch = 0;
   double linf_stretch = 0;
@@ -98,7 +98,8 @@ inline ReportValues reportValues(const FilterRun& run, const sdp::UVMeasures& st
   return values;
 }
 
-// The log lines: what ran, then the SPEC §6 report values, then remarks and the core's warnings.
+// The log lines: what ran, then the docs/method.md §6 report values, then remarks and the core's
+// warnings.
 inline std::vector<std::string> reportLines(const FilterRun& run, const sdp::UVMeasures& stored) {
   const sdp::Report& r = run.result.report;
   const ReportValues values = reportValues(run, stored);

@@ -21,7 +21,8 @@ inline QString qstr(const std::string& s) {
   return QString::fromStdString(s);
 }
 
-// Adds sdp::filter::parameters() to a MeshLab parameter list, in order, with SPEC §6 labels.
+// Adds sdp::filter::parameters() to a MeshLab parameter list, in order, with docs/method.md §6
+// labels.
 template <class RichEnumT, class RichIntT, class RichBoolT, class RichStringT, class ParameterList>
 void addFilterParameters(ParameterList& list) {
   using sdp::filter::ParameterType;

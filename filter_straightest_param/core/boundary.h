@@ -1,4 +1,4 @@
-// Boundary mappings of SPEC §3: circle, square, and the paper's §3 measured boundary.
+// Boundary mappings of docs/method.md §3: circle, square, and the paper's §3 measured boundary.
 // Every function returns 2D positions parallel to patch.boundary_loop, counter-clockwise.
 #pragma once
 
@@ -37,8 +37,9 @@ struct MeasuredCounts {
 // until it leaves the patch. Returns a negative value when the walk does not end at b.
 double planeWalkDistance(const Patch& patch, int source, const Eigen::Vector3d& normal, int b);
 
-// The measured boundary (paper §3, SPEC §3): polar angles of the virtual edges S -> b_k on the
-// base plane at S, straightest distances as radii, made strictly convex, scaled to the mesh area.
+// The measured boundary (paper §3, docs/method.md §3): polar angles of the virtual edges S -> b_k
+// on the base plane at S, straightest distances as radii, made strictly convex, scaled to the mesh
+// area.
 Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts);
 
 // Pairs of boundary positions joined by an interior mesh edge (a "dividing edge"; an ear's
@@ -55,8 +56,9 @@ Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& sp
                            const std::vector<std::pair<int, int>>& dividing_edges = {});
 
 // Stretch of the ears -- faces whose three corners are all on the boundary, so the boundary
-// polygon alone decides their shape -- as the area-weighted L2 of SPEC §5 with the polygon scaled
-// to the mesh's area. 0 when the patch has no ear. Lets a polygon be judged before any solve.
+// polygon alone decides their shape -- as the area-weighted L2 of docs/method.md §5 with the
+// polygon scaled to the mesh's area. 0 when the patch has no ear. Lets a polygon be judged before
+// any solve.
 double earStretch(const Patch& patch, const Polygon& polygon);
 
 // Signed area (positive when counter-clockwise).

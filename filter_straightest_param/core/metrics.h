@@ -1,5 +1,5 @@
-// SPEC §5: Sander et al. 2001 texture stretch, normalized so that 1.0 is isometric, and the
-// flipped/degenerate face count that certifies a one-to-one map.
+// docs/method.md §5: Sander et al. 2001 texture stretch, normalized so that 1.0 is isometric, and
+// the flipped/degenerate face count that certifies a one-to-one map.
 #pragma once
 
 #include <Eigen/Core>

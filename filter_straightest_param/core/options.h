@@ -1,4 +1,4 @@
-// What the user chooses: SPEC.md §2 (weights), §3 (boundary), §4 (refinement), §6 (names).
+// What the user chooses: docs/method.md §2 (weights), §3 (boundary), §4 (refinement), §6 (names).
 #pragma once
 
 #include <functional>
@@ -15,7 +15,7 @@ enum class SourceRule { FarthestFromBoundary, NearestBoundaryCentroid };
 constexpr int kWeightSchemeCount = 5;
 constexpr int kBoundaryShapeCount = 3;
 
-// CLI / report names ("straightest", "ltd", ...), in SPEC order.
+// CLI / report names ("straightest", "ltd", ...), in docs/method.md §6 order.
 const char* weightSchemeName(WeightScheme w);
 const char* boundaryShapeName(BoundaryShape b);
 const char* sourceRuleName(SourceRule r);

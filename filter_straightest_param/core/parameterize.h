@@ -1,4 +1,4 @@
-// The one entry point of the core: indexed triangles in, UVs + report out (SPEC.md §1).
+// The one entry point of the core: indexed triangles in, UVs + report out (docs/method.md §1).
 #pragma once
 
 #include <Eigen/Core>
@@ -20,8 +20,9 @@ struct Result {
   Report report;
 };
 
-// SPEC §5 measures of any per-vertex UVs on the patch (ours after rounding, or another tool's):
-// the same metric code every report uses. Throws like parameterize() when (V, F) is no patch.
+// docs/method.md §5 measures of any per-vertex UVs on the patch (ours after rounding, or another
+// tool's): the same metric code every report uses. Throws like parameterize() when (V, F) is no
+// patch.
 struct UVMeasures {
   double l2_stretch = 0;
   double linf_stretch = 0;

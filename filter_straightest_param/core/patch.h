@@ -1,6 +1,7 @@
 // The patch: referenced vertices, triangles, and the derived topology every later stage needs
 // (ordered 1-rings, the boundary loop, face adjacency for plane walks). Building it is the
-// topology check of SPEC §1: one component, edge- and vertex-manifold, one boundary loop, χ = 1.
+// topology check of docs/method.md §1: one component, edge- and vertex-manifold, one boundary loop,
+// χ = 1.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,4 @@
-// What the user gets back besides the UVs: SPEC.md §5 metrics and §6 report keys.
+// What the user gets back besides the UVs: docs/method.md §5 metrics and §6 report keys.
 #pragma once
 
 #include <string>
@@ -34,8 +34,8 @@ struct Report {
   std::vector<std::pair<std::string, double>> stage_seconds;  // in run order
   std::vector<std::string> warnings;                          // one line each, for logs
 
-  // JSON object with the SPEC keys (pymeshlab dict keys + vertices, faces, weights, boundary,
-  // stage_seconds) and the breakdown above.
+  // JSON object with the docs/method.md §6 keys (pymeshlab dict keys + vertices, faces, weights,
+  // boundary, stage_seconds) and the breakdown above.
   std::string toJson() const;
 };
 

@@ -1,5 +1,5 @@
-// The five weight schemes of SPEC §2: convex combination weights a_ij of eq. (1), one row per
-// interior vertex, each row non-negative and summing to 1.
+// The five weight schemes of docs/method.md §2: convex combination weights a_ij of eq. (1), one row
+// per interior vertex, each row non-negative and summing to 1.
 #pragma once
 
 #include <functional>

@@ -28,7 +28,8 @@ QString FilterStraightestParamPlugin::filterName(ActionIDType) const {
   return QString::fromUtf8(sdp::filter::kFilterName);
 }
 
-// Set explicitly (SPEC §6), not derived from the menu name as FilterPlugin's default does.
+// Set explicitly (docs/method.md §6), not derived from the menu name as FilterPlugin's default
+// does.
 QString FilterStraightestParamPlugin::pythonFilterName(ActionIDType) const {
   return QString::fromUtf8(sdp::filter::kPythonFilterName);
 }

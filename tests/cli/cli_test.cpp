@@ -1,5 +1,5 @@
 // End-to-end tests of the straightest_param executable: files in, files + report + exit status
-// out (SPEC.md §6).
+// out (docs/method.md §6).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 

@@ -13,7 +13,8 @@ Options with(WeightScheme w, BoundaryShape b) {
   return o;
 }
 
-// SPEC: a planar patch with the measured boundary comes back as itself, up to a similarity.
+// docs/method.md §3: a planar patch with the measured boundary comes back as itself, up to a
+// similarity.
 TEST(Parameterize, PlanarPatchWithMeasuredBoundaryIsIsometric) {
   const test::Mesh m = test::planarGrid(16);
   for (WeightScheme w : {WeightScheme::Straightest, WeightScheme::Ltd, WeightScheme::Floater,

@@ -54,7 +54,7 @@ import subprocess
 import sys
 import time
 
-FILTER_NAME = "Parametrization: Straightest Distances"  # SPEC.md section 6
+FILTER_NAME = "Parametrization: Straightest Distances"  # docs/method.md section 6
 MAIN_TITLE = r"^MeshLab 20[0-9.]+ - \["
 PLUGIN_ERROR_TITLE = r"^Error while loading plugins"  # MeshLab 2022+'s QMessageBox
 SYSTEM_PLUGIN_FOLDER = "/usr/lib/x86_64-linux-gnu/meshlab/plugins"  # Debian's, in a root

@@ -3,7 +3,7 @@
 
 Recomputes from the file alone: every face has per-wedge texture coordinates, no face is flipped
 or degenerate in UV (signed area > 0), the .mtl's map_Kd texture exists, and -- given the
-meshlabserver log -- the Sander L2 stretch (SPEC.md section 5) matches the logged one. Plain
+meshlabserver log -- the Sander L2 stretch (docs/method.md section 5) matches the logged one. Plain
 Python: it runs with any python3.
 """
 import argparse

@@ -32,7 +32,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--root", required=True)
     parser.add_argument("--harness", required=True)
-    parser.add_argument("--plugin", required=True)
+    parser.add_argument("--plugin", required=True,
+                        help="our plugin, copied into the run's folder; or 'installed' (in the "
+                        "root's system folder, from our Debian package) or 'absent' (must not be "
+                        "loaded: the mesh is only opened and saved)")
     parser.add_argument("--mesh", required=True)
     parser.add_argument("--out", required=True)
     parser.add_argument("--expect", choices=("success", "refusal"), required=True)
@@ -40,7 +43,9 @@ def main():
     parser.add_argument("parameters", nargs="*", help="NAME=INT overrides of the defaults")
     args = parser.parse_args()
     root = os.path.abspath(args.root)
-    for path in (args.harness, args.plugin, args.mesh, os.path.join(root, SYSTEM_PLUGINS[1:])):
+    copied_plugin = args.plugin not in ("installed", "absent")
+    for path in ([args.harness, args.mesh, os.path.join(root, SYSTEM_PLUGINS[1:])]
+                 + ([args.plugin] if copied_plugin else [])):
         if not os.path.exists(path):
             print("FAIL: %s missing" % path)
             return 1
@@ -51,8 +56,9 @@ def main():
     os.makedirs(folder)
     try:
         shutil.copy2(args.harness, os.path.join(folder, "meshlab_harness"))
-        for path in (args.plugin, args.mesh):
+        for path in [args.mesh] + ([args.plugin] if copied_plugin else []):
             shutil.copy2(path, folder)
+        plugin = inside + "/" + os.path.basename(args.plugin) if copied_plugin else args.plugin
         mesh = inside + "/" + os.path.basename(args.mesh)
         obj = inside + "/out.obj"
         script = ('mount -t proc proc "$1/proc" && root="$1" && home="$2" && shift 2 && '
@@ -63,8 +69,7 @@ def main():
         # which the meshlab binary finds through its RUNPATH; a RUNPATH is not passed on to the
         # plugins the harness loads.
         command = (["unshare", "--mount", "--propagation", "private", "sh", "-c", script, "sh",
-                    root, inside, SYSTEM_PLUGINS,
-                    inside + "/" + os.path.basename(args.plugin), mesh, obj] + args.parameters)
+                    root, inside, SYSTEM_PLUGINS, plugin, mesh, obj] + args.parameters)
         result = subprocess.run(command, capture_output=True, text=True, timeout=600)
         output = result.stdout + result.stderr
         print(output)
@@ -84,6 +89,12 @@ def main():
             return 1
         print("PASS: running in MeshLab %s (%s)" % version.groups())
 
+        if args.plugin == "absent":
+            if result.returncode != 0 or "the filter is not loaded" not in output:
+                print("FAIL: MeshLab did not open and save the mesh without our filter")
+                return 1
+            print("PASS: MeshLab opened and saved the mesh; our filter is not loaded")
+            return 0
         if args.expect == "success":
             if result.returncode != 0:
                 print("FAIL: the filter did not map the mesh and save it")

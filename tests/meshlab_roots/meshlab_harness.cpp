@@ -6,6 +6,9 @@
 // (tests/meshlab_roots/headless_case.py drives it).
 //
 // usage: meshlab_harness SYSTEM_PLUGIN_DIR OUR_PLUGIN.so IN.off OUT.obj [NAME=INT ...]
+//   OUR_PLUGIN.so  "installed": ours is in SYSTEM_PLUGIN_DIR already (a Debian package);
+//                  "absent": ours must not be loaded anywhere, and the mesh is only opened and
+//                  saved (MeshLab still works after the package is removed)
 // Prints "report KEY VALUE" lines (the filter's returned dict) and MeshLab's log as "log: ...".
 // Exit status: 0 mapped and saved; 3 the filter refused with MLException and the mesh is exactly
 // as before; 4 refused but the mesh changed; 1 anything else (plugin or mesh not loaded, ...).
@@ -64,6 +67,39 @@ void printLog(MeshDocument& md) {
   for (const QString& line : lines) std::cout << "log: " << line.toStdString() << "\n";
 }
 
+// Saves the current mesh with MeshLab's own OBJ exporter, per-wedge UVs and textures when asked.
+int saveObj(PluginManager& plugins, MeshDocument& md, const char* path, bool wedge_uvs) {
+  MeshModel* mm = md.mm();
+  // The exporter's mask takes I/O bits (io_mask.h), not MeshModel's; no IOM_BITPOLYGONAL, whose
+  // polygon conversion drops wedge UVs.
+  const QString out = QFileInfo(QString::fromLocal8Bit(path)).absoluteFilePath();
+  IOPlugin* exporter = plugins.outputMeshPlugin("obj");
+  if (exporter == nullptr) {
+    std::cout << "no OBJ exporter loaded\n";
+    return 1;
+  }
+  exporter->setLog(&md.Log);
+  int capability = 0, defaults = 0;
+  exporter->exportMaskCapability("obj", capability, defaults);
+  namespace io = vcg::tri::io;
+  if (wedge_uvs && !(capability & io::Mask::IOM_WEDGTEXCOORD)) {
+    std::cout << "the OBJ exporter cannot write wedge texture coordinates\n";
+    return 1;
+  }
+  const int mask = io::Mask::IOM_VERTCOORD | io::Mask::IOM_FACEINDEX |
+                   (wedge_uvs ? io::Mask::IOM_WEDGTEXCOORD : 0);
+  try {
+    exporter->save("obj", out, *mm, mask, exporter->initSaveParameter("obj", *mm), nullptr);
+    // The .mtl names the texture; MeshLab keeps the image in memory until the mesh is saved.
+    if (wedge_uvs) mm->saveTextures(QFileInfo(out).absolutePath(), -1, &md.Log, nullptr);
+  } catch (const MLException& e) {
+    std::cout << "saving failed: " << e.what() << "\n";
+    return 1;
+  }
+  std::cout << "saved " << out.toStdString() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,11 +116,13 @@ int main(int argc, char** argv) {
   std::cout << "meshlab " << meshlab::meshlabVersion() << " "
             << (meshlab::builtWithDoublePrecision() ? "double" : "float") << "\n";
 
+  const std::string our_plugin = argv[2];
   // The singleton: MeshLab's load/save helpers find the I/O plugins through it.
   PluginManager& plugins = meshlab::pluginManagerInstance();
   try {
     plugins.loadPlugins(QDir(QString::fromLocal8Bit(argv[1])));
-    plugins.loadPlugin(QFileInfo(QString::fromLocal8Bit(argv[2])).absoluteFilePath());
+    if (our_plugin != "installed" && our_plugin != "absent")
+      plugins.loadPlugin(QFileInfo(QString::fromLocal8Bit(argv[2])).absoluteFilePath());
   } catch (const MLException& e) {
     std::cout << "plugin loading failed: " << e.what() << "\n";
     return 1;
@@ -101,6 +139,16 @@ int main(int argc, char** argv) {
   MeshModel* mm = md.mm();
   QAction* action = plugins.filterAction(kFilterName);
   FilterPlugin* filter = action ? plugins.getFilterPluginFromAction(action) : nullptr;
+  if (our_plugin == "absent") {
+    if (filter != nullptr) {
+      std::cout << "the filter is still loaded\n";
+      return 1;
+    }
+    std::cout << "the filter is not loaded\n";
+    const int saved = saveObj(plugins, md, argv[4], false);
+    std::fflush(nullptr);
+    std::_Exit(saved);
+  }
   if (mm == nullptr || filter == nullptr) {
     std::cout << (mm == nullptr ? "no mesh" : "the filter is not loaded") << "\n";
     return 1;
@@ -145,32 +193,8 @@ int main(int argc, char** argv) {
   }
   printLog(md);
 
-  // The OBJ exporter with per-wedge UVs. Its mask takes I/O bits (io_mask.h), not MeshModel's;
-  // no IOM_BITPOLYGONAL, whose polygon conversion drops wedge UVs.
-  const QString out = QFileInfo(QString::fromLocal8Bit(argv[4])).absoluteFilePath();
-  IOPlugin* exporter = plugins.outputMeshPlugin("obj");
-  if (exporter == nullptr) {
-    std::cout << "no OBJ exporter loaded\n";
-    return 1;
-  }
-  exporter->setLog(&md.Log);
-  int capability = 0, defaults = 0;
-  exporter->exportMaskCapability("obj", capability, defaults);
-  namespace io = vcg::tri::io;
-  if (!(capability & io::Mask::IOM_WEDGTEXCOORD)) {
-    std::cout << "the OBJ exporter cannot write wedge texture coordinates\n";
-    return 1;
-  }
-  const int mask = io::Mask::IOM_VERTCOORD | io::Mask::IOM_FACEINDEX | io::Mask::IOM_WEDGTEXCOORD;
-  try {
-    exporter->save("obj", out, *mm, mask, exporter->initSaveParameter("obj", *mm), nullptr);
-    // The .mtl names the texture; MeshLab keeps the image in memory until the mesh is saved.
-    mm->saveTextures(QFileInfo(out).absolutePath(), -1, &md.Log, nullptr);
-  } catch (const MLException& e) {
-    std::cout << "saving failed: " << e.what() << "\n";
-    return 1;
-  }
-  std::cout << "saved " << out.toStdString() << "\n";
+  const int saved = saveObj(plugins, md, argv[4], true);
+  if (saved != 0) return saved;
   std::fflush(nullptr);
   // The static plugin manager would unload plugins after QApplication is gone: skip teardown.
   std::_Exit(0);

@@ -19,7 +19,7 @@ REPORT_DIR = pathlib.Path(os.environ.get("SDP_REPORT_DIR", REPO / "build/reports
 
 DISK_MESHES = sorted((SHARED / "meshes/disk").glob("*.off"))
 INVALID_MESHES = sorted((SHARED / "meshes/invalid").glob("*.off"))
-# Labels exactly as SPEC.md section 6 (pymeshlab takes enum values by label).
+# Labels exactly as docs/method.md section 6 (pymeshlab takes enum values by label).
 WEIGHTS = ["Straightest distances (cutting planes)", "LTD straightest geodesics",
            "Floater shape-preserving", "Mean value", "Uniform"]
 BOUNDARIES = {"measured": "Measured (straightest distances)", "circle": "Circle",

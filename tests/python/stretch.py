@@ -1,4 +1,4 @@
-"""Numpy versions of the SPEC.md section 5 measures, computed from what pymeshlab hands back."""
+"""Numpy versions of the docs/method.md section 5 measures, computed from what pymeshlab hands back."""
 import numpy as np
 
 

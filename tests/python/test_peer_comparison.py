@@ -1,5 +1,5 @@
 """Side by side with pymeshlab's own parameterizations, in the same process, on the same
-meshes, with the same metric (SPEC.md section 5, recomputed here in numpy for every method):
+meshes, with the same metric (docs/method.md section 5, recomputed here in numpy for every method):
   - ours: straightest-distance weights with the measured, circle and square boundaries
   - harmonic: compute_texcoord_parametrization_harmonic (libigl, cotangent, circle boundary)
   - LSCM: compute_texcoord_parametrization_least_squares_conformal_maps (free boundary)

@@ -4,7 +4,7 @@
 usage: cli_cases.py --exe STRAIGHTEST_PARAM --workdir DIR [--shared SHARED] [--big MESH.off] CASE
 
 One ctest per CASE (see CMakeLists.txt). Every run also checks that the input file is left as it
-was. The failure contract (cli/main.cpp, SPEC section 6): exit status 1, exactly one stderr line
+was. The failure contract (cli/main.cpp, docs/method.md section 6): exit status 1, exactly one stderr line
 "straightest_param: <reason>", nothing on stdout, no output file written and an existing output
 file left untouched. The success contract: exit status 0, the report on stdout with 0 flipped
 faces, stderr lines only "warning: ...", and output files (OBJ and PLY) that hold the input mesh
