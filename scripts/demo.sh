@@ -7,11 +7,12 @@ set -euo pipefail
 
 repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo_dir"
-shared_dir="${SDP_SHARED_DIR:-$repo_dir/../shared}"
-mesh="${1:-$shared_dir/meshes/disk/nefertiti.off}"
+# The paper's Nefertiti ships with the repository (resources/meshes, CC0): no other folder needed.
+mesh="${1:-$repo_dir/resources/meshes/nefertiti.off}"
 shift || true
 
-bash scripts/install-deps.sh
+# The demo needs only the command line tool: not the Debian roots of the MeshLab GUI tests.
+SDP_SKIP_ROOTS=1 bash scripts/install-deps.sh
 build_dir="${SDP_BUILD_DIR:-$repo_dir/build}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build_dir" -j"$(nproc)" --target straightest_param
