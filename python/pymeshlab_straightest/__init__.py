@@ -1,0 +1,94 @@
+"""The straightest-distance parameterization filter for pymeshlab 2025.7.
+
+    import pymeshlab
+    import pymeshlab_straightest  # loads the plugin, binds the MeshSet method
+
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh("patch.off")
+    report = ms.compute_texcoord_parametrization_straightest_distances()
+
+Importing loads the MeshLab 2025.07 (double precision) plugin that ships in this package into
+pymeshlab and binds ``MeshSet.compute_texcoord_parametrization_straightest_distances``, which
+takes the filter's parameters as keywords (``weights``, ``boundary``, ``sourcevertex``,
+``stretchiterations``, ``selectedonly``, ``texturename``, ``checkers``, ``texturesize``) and
+returns the report dict (``l2_stretch``, ``linf_stretch``, ``flipped_faces``, ``fallbacks``,
+``source_vertex``, ``seconds``). A mesh the filter refuses raises
+``pymeshlab.PyMeshLabException`` whose message ends with the one-line reason; the mesh is left
+as it was.
+
+Batches: in pymeshlab 2025.7, a loop that catches a filter's exception and goes on to a new
+``MeshSet`` crashes the interpreter at the next load (upstream PyMeshLab issue #399). The cause:
+when a filter raises, pymeshlab leaves its process-wide progress logger, and for a verbose
+``MeshSet`` the plugin's logger too, pointing into the log of the ``MeshSet`` that ran it; only
+a filter that succeeds resets them, so the next importer writes into a destroyed log. The bound
+method here repairs that state whenever our filter raises: it runs one trivial filter on a
+throw-away one-triangle mesh (which resets the process-wide logger) and keeps the failed
+``MeshSet`` objects alive until our filter next succeeds (which resets the plugin's). So a loop
+like this is safe, whatever mix of good and bad meshes it meets::
+
+    for path in paths:
+        ms = pymeshlab.MeshSet()
+        ms.load_new_mesh(path)
+        try:
+            report = ms.compute_texcoord_parametrization_straightest_distances()
+        except pymeshlab.PyMeshLabException as error:
+            print(path, "refused:", str(error).splitlines()[-1])
+
+Keep such a loop in one thread (pymeshlab's logger is process-wide), and start a new
+``MeshSet`` after a refusal rather than filtering the refused one again.
+"""
+import os
+
+import numpy as np
+import pymeshlab
+
+from ._version import VERSION as __version__  # noqa: F401
+
+FILTER_NAME = "compute_texcoord_parametrization_straightest_distances"
+PLUGIN_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                           "libfilter_straightest_param.so")
+
+# MeshSets whose run of our filter raised: pymeshlab may still hold pointers into their logs
+# until our filter next succeeds, so they must outlive the caller's references.
+_refused_mesh_sets = []
+
+
+def _reset_pymeshlab_logging():
+    """A trivial filter that succeeds: pymeshlab resets its process-wide logger at its end."""
+    scratch = pymeshlab.MeshSet()
+    scratch.add_mesh(pymeshlab.Mesh(
+        vertex_matrix=np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+        face_matrix=np.array([[0, 1, 2]], dtype=np.int32)))
+    scratch.apply_filter("set_selection_none")
+
+
+def compute_texcoord_parametrization_straightest_distances(self, **parameters):
+    try:
+        report = self.apply_filter(FILTER_NAME, **parameters)
+    except BaseException:
+        _refused_mesh_sets.append(self)
+        try:
+            _reset_pymeshlab_logging()
+        except Exception:  # the caller must see the filter's own error, not this one
+            pass
+        raise
+    # Success reset both of pymeshlab's loggers: the refused MeshSets may go.
+    _refused_mesh_sets.clear()
+    return report
+
+
+compute_texcoord_parametrization_straightest_distances.__doc__ = (
+    "Parametrization: Straightest Distances (see help(pymeshlab_straightest)). Keyword "
+    "parameters as in MeshLab's dialog; returns the report dict.")
+
+
+def _load():
+    if not os.path.isfile(PLUGIN_PATH):
+        raise ImportError("pymeshlab_straightest: the plugin %s is missing from the package"
+                          % PLUGIN_PATH)
+    if FILTER_NAME not in pymeshlab.filter_list():
+        pymeshlab.load_plugin(PLUGIN_PATH)
+    setattr(pymeshlab.MeshSet, FILTER_NAME, compute_texcoord_parametrization_straightest_distances)
+
+
+_load()
