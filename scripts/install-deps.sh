@@ -7,7 +7,8 @@
 #     (scripts/fetch-meshlab-sources.sh);
 #   - Debian roots with the MeshLab 2022.02 (trixie) and 2025.07 (sid) GUIs that the plugins for
 #     those versions are linked against and tested in (scripts/make-meshlab-root.sh; needs root);
-#   - .venv/ with pymeshlab 2025.07 (the MeshLab the 2025.07 plugin runs in), pytest and numpy.
+#   - .venv/ with pymeshlab 2025.07 (the MeshLab the 2025.07 plugin runs in), pytest, numpy and
+#     auditwheel (it reports the pip package's platform tag).
 #
 #   SDP_SKIP_APT=1     skip the Debian packages (e.g. when not root and they are already there)
 #   SDP_SKIP_ROOTS=1   skip the trixie/sid roots (their plugins then link unchecked, their tests skip)
@@ -26,7 +27,7 @@ debian_packages=(
   meshlab
   xvfb xauth xdotool x11-utils imagemagick
 )
-python_requirements=("pymeshlab==2025.7.post1" "pytest" "numpy")
+python_requirements=("pymeshlab==2025.7.post1" "pytest" "numpy" "auditwheel==6.8.2")
 
 missing_packages() {
   local pkg

@@ -5,8 +5,10 @@
 #     robustness cases, real meshlabserver and the MeshLab 2020.09 GUI under Xvfb, the MeshLab
 #     2022.02 and 2025.07 GUIs (and their own plugin loaders, headless) in Debian roots, and pytest
 #     inside real pymeshlab;
-#  2. builds the core, CLI and their tests again with AddressSanitizer + UBSan and runs them;
-#  3. replays the fuzz regression inputs and fuzzes the mesh pipeline (120,000 inputs from a fixed seed).
+#  2. builds the Debian packages and the pip package and tests them as installed
+#     (scripts/test-packages.sh);
+#  3. builds the core, CLI and their tests again with AddressSanitizer + UBSan and runs them;
+#  4. replays the fuzz regression inputs and fuzzes the mesh pipeline (120,000 inputs from a fixed seed).
 # Fails if any step fails or any front end could not be built.
 #   SDP_BUILD_DIR=DIR   build folder (default: <repo>/build)
 #   SDP_QUICK=1         step 1 only
@@ -55,6 +57,8 @@ fi
 run_ctest() { (cd "$build_dir" && ctest --output-on-failure --timeout 900); }
 stage "ctest" run_ctest
 [[ "${SDP_QUICK:-0}" == 1 ]] && exit 0
+
+stage "packages: .deb in each MeshLab, wheel in a fresh venv" bash scripts/test-packages.sh "$build_dir"
 
 stage "core and CLI tests under AddressSanitizer + UndefinedBehaviorSanitizer" bash scripts/sanitize.sh
 stage "fuzzing" bash scripts/fuzz.sh

@@ -1,21 +1,28 @@
-"""The README's pymeshlab snippet, executed verbatim in a fresh interpreter from the repository
-folder (it names the default build folder build/ and ../shared, as a reader's clone has them)."""
+"""The README's pymeshlab snippet (from a build), executed verbatim in a fresh interpreter from a
+folder laid out like the repository (it names the default build folder build/ and
+resources/meshes/, as a reader's clone has them): the filter writes its checkerboard next to the
+mesh, which must not land in the clone's resources/."""
+import os
 import re
+import shutil
 import subprocess
 import sys
 
-from conftest import REPO
+from conftest import PLUGIN, REPO
 
 
-def test_readme_snippet_runs_verbatim():
+def test_readme_snippet_runs_verbatim(tmp_path):
     text = (REPO / "README.md").read_text()
     match = re.search(r"<!-- pymeshlab-snippet -->\n```python\n(.*?)```", text, re.S)
     assert match, "README has no pymeshlab snippet"
-    out = REPO / "out/nefertiti_pymeshlab.obj"
-    if out.exists():
-        out.unlink()
-    done = subprocess.run([sys.executable, "-c", match.group(1)], cwd=REPO, capture_output=True,
-                          text=True, timeout=300)
+    plugin = tmp_path / "build/plugins/meshlab-2025.07/libfilter_straightest_param.so"
+    plugin.parent.mkdir(parents=True)
+    os.symlink(PLUGIN, plugin)
+    (tmp_path / "resources/meshes").mkdir(parents=True)
+    shutil.copy(REPO / "resources/meshes/nefertiti.off", tmp_path / "resources/meshes")
+    out = tmp_path / "out/nefertiti_pymeshlab.obj"
+    done = subprocess.run([sys.executable, "-c", match.group(1)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert "l2_stretch" in done.stdout and "flipped_faces" in done.stdout
     lines = out.read_text().splitlines()

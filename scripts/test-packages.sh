@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The packages as users install them (a stage of scripts/test.sh, after ctest; it needs the build):
+#   1. scripts/make-debs.sh, then tests/packages/deb_test.py for each .deb: MeshLab 2020.09 on this
+#      machine, 2022.02 in the trixie root, 2025.07 in the sid root (scripts/make-meshlab-root.sh);
+#   2. scripts/make-wheel.sh, then tests/packages/wheel_test.py in a fresh virtual environment
+#      where only `pip install <wheel>` ran (it brings pymeshlab 2025.7.post1 from PyPI).
+# Not inside ctest on purpose: the 2020.09 case installs into this machine's MeshLab for a moment,
+# which the meshlabserver and GUI tests (possibly run in parallel by ctest -j) must not see.
+#
+# usage: scripts/test-packages.sh [BUILD_DIR]
+#   SDP_SHARED_DIR  extra meshes (optional); SDP_CACHE_DIR  where the Debian roots are
+set -euo pipefail
+
+repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_dir=$(realpath "${1:-$repo_dir/build}")
+roots="${SDP_CACHE_DIR:-$HOME/.cache/straightest-param}/roots"
+out="$build_dir/test-output/packages"
+mesh="$repo_dir/resources/meshes/nefertiti.off"
+bad_mesh="$repo_dir/resources/meshes/invalid/two_components.off"
+python=/usr/bin/python3
+[[ -x "$python" ]] || python=$(command -v python3)
+rm -rf "$out"
+mkdir -p "$out"
+
+failures=0
+run_case() {  # name command...
+  local name=$1
+  shift
+  if "$@" >"$out/$name.log" 2>&1; then
+    echo "PASS $name"
+  else
+    echo "FAIL $name (log: $out/$name.log)"
+    tail -30 "$out/$name.log"
+    failures=$((failures + 1))
+  fi
+}
+
+debs=$(bash "$repo_dir/scripts/make-debs.sh" "$build_dir" "$build_dir/debs")
+version=$(basename "$(echo "$debs" | head -n1)" | cut -d_ -f2)
+run_case deb_meshlab2020_this_machine "$python" "$repo_dir/tests/packages/deb_test.py" \
+  --deb "$build_dir/debs/straightest-param-meshlab2020_${version}_amd64.deb" \
+  --meshlab-version 2020.09 --mesh "$mesh" --bad-mesh "$bad_mesh" --out "$out/deb2020"
+if [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
+  run_case deb_meshlab2022_trixie "$python" "$repo_dir/tests/packages/deb_test.py" \
+    --deb "$build_dir/debs/straightest-param-meshlab2022_${version}_amd64.deb" \
+    --meshlab-version 2022.02 --mesh "$mesh" --bad-mesh "$bad_mesh" --out "$out/deb2022" \
+    --root "$roots/trixie" --harness "$build_dir/bin/meshlab_harness_202202"
+  run_case deb_meshlab2025_sid "$python" "$repo_dir/tests/packages/deb_test.py" \
+    --deb "$build_dir/debs/straightest-param-meshlab2025_${version}_amd64.deb" \
+    --meshlab-version 2025.07 --mesh "$mesh" --bad-mesh "$bad_mesh" --out "$out/deb2025" \
+    --root "$roots/sid" --harness "$build_dir/bin/meshlab_harness_202507"
+fi
+
+wheel=$(bash "$repo_dir/scripts/make-wheel.sh" "$build_dir" "$build_dir/wheels")
+# What the wheel's platform tag may honestly be (README, pymeshlab section).
+"$repo_dir/.venv/bin/auditwheel" show "$wheel" 2>&1 | tee "$build_dir/wheels/auditwheel.txt" |
+  grep -A1 -E "consistent|constrains" || true
+venv="$out/wheel-venv"
+run_case wheel_fresh_venv bash -c '
+  "$1" -m venv "$2" && "$2/bin/python" -m pip install --disable-pip-version-check -q "$3" &&
+  "$2/bin/python" "$4/tests/packages/wheel_test.py" --wheel "$3" --out "$5/wheel"' \
+  sh "$python" "$venv" "$wheel" "$repo_dir" "$out"
+
+echo "test-packages: $(( $(ls "$out"/*.log | wc -l) - failures )) cases passed, $failures failed"
+[[ $failures -eq 0 ]]
