@@ -8,7 +8,7 @@ set -euo pipefail
 repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo_dir"
 # The paper's Nefertiti ships with the repository (resources/meshes, CC0): no other folder needed.
-mesh="${1:-$repo_dir/resources/meshes/nefertiti.off}"
+mesh="${1:-$repo_dir/resources/meshes/disk/nefertiti.off}"
 shift || true
 
 # The demo needs only the command line tool: not the Debian roots of the MeshLab GUI tests.

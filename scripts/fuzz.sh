@@ -7,7 +7,7 @@
 #   bash scripts/fuzz.sh --seconds 3600 [--seed N]   a longer run from a random seed (or N) that
 #                                   keeps its corpus in build-fuzz/corpus between runs: finds new
 #                                   inputs (documented in the README).
-# Seeds: the shared meshes and tests/fuzz/regressions (inputs that once failed, kept forever).
+# Seeds: the test meshes (resources/meshes, plus SDP_SHARED_DIR's when there) and tests/fuzz/regressions (inputs that once failed, kept forever).
 # New findings land in build-fuzz/findings/; the run fails if there is one.
 set -euo pipefail
 repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -41,10 +41,13 @@ CC=clang CXX=clang++ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInf
 nice -n 10 cmake --build "$build_dir" -j"${SDP_JOBS:-$(nproc)}" --target fuzz_mesh_pipeline
 fuzzer="$build_dir/bin/fuzz_mesh_pipeline"
 
-# Seed corpus: each shared mesh as an OFF input (format byte 0) with default options.
+# Seed corpus: each test mesh as an OFF input (format byte 0) with default options: the bundled
+# ones, then the extra set's others when it is there (a name seeds once; the copies are identical).
 rm -rf "$build_dir/findings"  # a finding is reported once; keep it in tests/fuzz/regressions
 mkdir -p "$corpus" "$build_dir/findings"
-for mesh in "$shared_dir"/meshes/disk/nefertiti.off "$shared_dir"/meshes/invalid/*.off \
+bundled="$repo_dir/resources/meshes"
+for mesh in "$bundled"/disk/nefertiti.off "$bundled"/invalid/*.off \
+            "$shared_dir"/meshes/disk/nefertiti.off "$shared_dir"/meshes/invalid/*.off \
             "$shared_dir"/meshes/holes/halftunnel_quads.off; do
   [[ -f "$mesh" ]] || continue
   seed="$corpus/seed_$(basename "$mesh")"

@@ -45,11 +45,12 @@ for plugin in meshlab-2020.09 meshlab-2022.02 meshlab-2025.07-float meshlab-2025
 done
 
 # The same for the tests inside the MeshLab 2022.02 and 2025.07 roots (registered only when the
-# roots exist): per version two GUI tests (per-user and system plugin folder) and six headless cases.
+# roots exist): per version two GUI tests (per-user and system plugin folder) and, on the bundled
+# meshes alone, four headless cases (more with the extra meshes of SDP_SHARED_DIR).
 if [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
   registered=$(cd "$build_dir" && ctest -N -L meshlab_roots | awk '/^Total Tests:/ { print $3 }')
-  if [[ "${registered:-0}" -lt 16 ]]; then
-    echo "test.sh: only ${registered:-0} MeshLab 2022.02/2025.07 tests registered (want 16): see the configure warnings" >&2
+  if [[ "${registered:-0}" -lt 12 ]]; then
+    echo "test.sh: only ${registered:-0} MeshLab 2022.02/2025.07 tests registered (want 12 or more): see the configure warnings" >&2
     exit 1
   fi
 fi

@@ -14,12 +14,14 @@
 #include <vector>
 
 #include "mesh_io.h"
+#include "test_mesh_files.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kMeshes = fs::path(SDP_SHARED_DIR) / "meshes";
+// The meshes that ship with the repository; the larger ones via sdp::test::meshFile.
+const fs::path kMeshes = fs::path(SDP_BUNDLED_MESH_DIR);
 const std::string kNefertiti = (kMeshes / "disk" / "nefertiti.off").string();
 
 std::string readFile(const fs::path& path) {
@@ -286,7 +288,7 @@ TEST_F(CliTest, QuadMeshIsTriangulatedWithAWarning) {
 // Whether a patch with holes is flattened (holes filled) or refused is the core's policy; either
 // way the tool keeps its contract, and the triangulation warning comes first on success.
 TEST_F(CliTest, QuadMeshWithHolesSucceedsOrFailsCleanly) {
-  const std::string input = (kMeshes / "holes" / "halftunnel_quads.off").string();
+  SDP_MESH_OR_SKIP(input, "holes/halftunnel_quads.off");
   const ToolRun r = run({input, outPath("tunnel.obj"), "--texture-size", "16"});
   if (r.exit_code != 0) {
     expectFailure(r, 1);
@@ -314,7 +316,7 @@ TEST_F(CliTest, ReadsObjAndPlyInput) {
 class CliInvalidMesh : public CliTest, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(CliInvalidMesh, FailsWithOneLineAndNoOutput) {
-  const std::string input = (kMeshes / GetParam()).string();
+  SDP_MESH_OR_SKIP(input, GetParam());
   const std::string report = outPath("report.json");
   expectFailure(run({input, outPath("m.obj"), "--report", report}), 1);
   expectFailure(run({input, outPath("m.ply"), "--report", report}), 1);

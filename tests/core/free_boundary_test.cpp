@@ -8,6 +8,7 @@
 #include "core/parameterize.h"
 #include "core/stretch_newton.h"
 #include "mesh_io.h"
+#include "test_mesh_files.h"
 #include "test_meshes.h"
 
 namespace sdp {
@@ -63,7 +64,7 @@ TEST(FreeBoundary, BoundaryIsSimpleSeesACrossing) {
 // The shared mesh refined with K steps (default options otherwise), checked one-to-one here: no
 // flipped face in the returned UVs, no crossing between border edges.
 Result refinedAndChecked(const std::string& mesh, int steps) {
-  const io::MeshData m = io::readMesh(test::sharedMesh(mesh));
+  const io::MeshData m = io::readMesh(mesh);
   Options o;
   o.stretch_iterations = steps;
   Result r = parameterize(m.V, m.F, o);
@@ -74,13 +75,15 @@ Result refinedAndChecked(const std::string& mesh, int steps) {
 }
 
 TEST(FreeBoundary, CamelBLetsTheBoundaryGoAndStaysOneToOne) {
-  const Result r = refinedAndChecked("disk/camel_b.off", 10);
+  SDP_MESH_OR_SKIP(path, "disk/camel_b.off");
+  const Result r = refinedAndChecked(path, 10);
   EXPECT_GT(r.report.free_boundary_steps, 0);
   EXPECT_LT(r.report.l2_stretch, 0.25 * r.report.l2_stretch_fixed_boundary);
 }
 
 TEST(FreeBoundary, CircleSquareAndFixedBoundaryKeepTheBoundary) {
-  const io::MeshData m = io::readMesh(test::sharedMesh("disk/nefertiti.off"));
+  SDP_MESH_OR_SKIP(path, "disk/nefertiti.off");
+  const io::MeshData m = io::readMesh(path);
   for (BoundaryShape shape : {BoundaryShape::Square, BoundaryShape::Circle}) {
     Options asked;
     asked.boundary = shape;
@@ -125,7 +128,8 @@ TEST(StretchNewton, UnwarpsAPlanarPatchToAnIsometry) {
 // camelhead: the ARAP steps stop (their optimum folds) at the fixed-boundary L2 of 1.74; the
 // Newton steps on the stretch itself go on, one-to-one.
 TEST(StretchNewton, CamelheadGoesOnWhereArapStops) {
-  const Result r = refinedAndChecked("disk/camelhead.off", 5);  // 1.78 -> 1.46
+  SDP_MESH_OR_SKIP(path, "disk/camelhead.off");
+  const Result r = refinedAndChecked(path, 5);  // 1.78 -> 1.46
   EXPECT_LT(r.report.l2_stretch, 0.85 * r.report.l2_stretch_fixed_boundary);
 }
 
@@ -148,7 +152,8 @@ TEST(StretchNewton, LargePatchesSkipTheNewtonSteps) {
 
 // With holes every loop is checked: no hole may cross another or the outer loop.
 TEST(FreeBoundary, HolesStayApart) {
-  const Result r = refinedAndChecked("holes/beetle.off", 3);
+  SDP_MESH_OR_SKIP(path, "holes/beetle.off");
+  const Result r = refinedAndChecked(path, 3);
   EXPECT_LE(r.report.l2_stretch, r.report.l2_stretch_fixed_boundary);
 }
 

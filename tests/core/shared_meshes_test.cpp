@@ -1,11 +1,13 @@
-// The shared real meshes (../shared/meshes): every disk mesh in every combination, every invalid
-// mesh rejected with its reason, and the paper's Table 1 ordering on Nefertiti.
+// The real meshes (resources/meshes, plus the extra set in SDP_SHARED_DIR when it is there): every
+// disk mesh in every combination, every invalid mesh rejected with its reason, and the paper's
+// Table 1 ordering on Nefertiti. A mesh in neither place skips its test.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "core/parameterize.h"
 #include "mesh_io.h"
+#include "test_mesh_files.h"
 #include "test_meshes.h"
 
 namespace sdp {
@@ -17,8 +19,8 @@ const char* const kDiskMeshes[] = {"nefertiti",   "snail",  "camel_b",   "lilium
 class DiskMesh : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(DiskMesh, AllFifteenCombinationsGiveOneToOneMaps) {
-  const io::MeshData mesh =
-      io::readMesh(test::sharedMesh(std::string("disk/") + GetParam() + ".off"));
+  SDP_MESH_OR_SKIP(path, std::string("disk/") + GetParam() + ".off");
+  const io::MeshData mesh = io::readMesh(path);
   for (int w = 0; w < kWeightSchemeCount; ++w)
     for (int b = 0; b < kBoundaryShapeCount; ++b) {
       Options o;
@@ -42,9 +44,9 @@ INSTANTIATE_TEST_SUITE_P(Shared, DiskMesh, ::testing::ValuesIn(kDiskMeshes), [](
   return name;
 });
 
-std::string reasonFor(const std::string& relative) {
+std::string reasonFor(const std::string& path) {
   try {
-    const io::MeshData mesh = io::readMesh(test::sharedMesh(relative));
+    const io::MeshData mesh = io::readMesh(path);
     parameterize(mesh.V, mesh.F);
   } catch (const ParameterizationError& e) {
     const std::string reason = e.what();
@@ -55,25 +57,33 @@ std::string reasonFor(const std::string& relative) {
 }
 
 TEST(InvalidMeshes, EachIsRejectedWithItsReason) {
-  EXPECT_NE(reasonFor("invalid/3holes.off").find("closed"), std::string::npos);
-  EXPECT_NE(reasonFor("invalid/bumpy.off").find("closed"), std::string::npos);
-  EXPECT_NE(reasonFor("invalid/nan_vertex.off").find("non-finite"), std::string::npos);
-  EXPECT_NE(reasonFor("invalid/nonmanifold_edge.off").find("non-manifold edge"), std::string::npos);
-  EXPECT_NE(reasonFor("invalid/two_components.off").find("2 connected components"),
-            std::string::npos);
-  EXPECT_NE(reasonFor("invalid/truncated.off").find("truncated.off"), std::string::npos);
-  // Every file in the folder is covered above.
-  int files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(test::sharedMesh("invalid")))
-    files += entry.path().extension() == ".off";
-  EXPECT_EQ(files, 6);
+  // Every invalid file there is (bundled and extra) has its expected reason here.
+  const std::pair<const char*, const char*> expected[] = {
+      {"3holes.off", "closed"},
+      {"bumpy.off", "closed"},
+      {"nan_vertex.off", "non-finite"},
+      {"nonmanifold_edge.off", "non-manifold edge"},
+      {"two_components.off", "2 connected components"},
+      {"truncated.off", "truncated.off"}};
+  const std::vector<std::string> files = test::meshFilesIn("invalid");
+  ASSERT_GE(files.size(), 4u);  // the bundled ones at least
+  for (const std::string& file : files) {
+    const std::string name = std::filesystem::path(file).filename().string();
+    const char* reason = nullptr;
+    for (const auto& [n, r] : expected)
+      if (name == n) reason = r;
+    ASSERT_NE(reason, nullptr) << "no expected reason for " << file;
+    EXPECT_NE(reasonFor(file).find(reason), std::string::npos) << file;
+  }
 }
 
 // Patches with holes: inner loops are filled virtually for the solve; the map of the real
 // faces is one-to-one and the fill is gone from the result.
 TEST(Holes, BeetleAndHalfTunnelGiveOneToOneMaps) {
-  for (const char* name : {"holes/beetle.off", "holes/halftunnel_quads.off"}) {
-    const io::MeshData mesh = io::readMesh(test::sharedMesh(name));
+  SDP_MESH_OR_SKIP(beetle_path, "holes/beetle.off");
+  SDP_MESH_OR_SKIP(tunnel_path, "holes/halftunnel_quads.off");
+  for (const std::string& name : {beetle_path, tunnel_path}) {
+    const io::MeshData mesh = io::readMesh(name);
     for (int b = 0; b < kBoundaryShapeCount; ++b) {
       Options o;
       o.boundary = static_cast<BoundaryShape>(b);
@@ -85,7 +95,7 @@ TEST(Holes, BeetleAndHalfTunnelGiveOneToOneMaps) {
       EXPECT_TRUE(std::isfinite(r.report.l2_stretch)) << name;
     }
   }
-  const io::MeshData beetle = io::readMesh(test::sharedMesh("holes/beetle.off"));
+  const io::MeshData beetle = io::readMesh(beetle_path);
   const Result r = parameterize(beetle.V, beetle.F);
   EXPECT_EQ(r.report.holes_filled, 10);
   // Its measured polygon straightens stretches where faces have all corners on the boundary:
@@ -98,7 +108,8 @@ TEST(Holes, BeetleAndHalfTunnelGiveOneToOneMaps) {
 
 // The paper's Table 1 ordering (circle boundary): ours <= LTD <= Floater on Nefertiti.
 TEST(PaperTable1, NefertitiOrderingWithCircleBoundary) {
-  const io::MeshData mesh = io::readMesh(test::sharedMesh("disk/nefertiti.off"));
+  SDP_MESH_OR_SKIP(path, "disk/nefertiti.off");
+  const io::MeshData mesh = io::readMesh(path);
   auto l2 = [&](WeightScheme w) {
     Options o;
     o.weights = w;
@@ -116,7 +127,8 @@ TEST(PaperTable1, NefertitiOrderingWithCircleBoundary) {
 
 // camelhead has rings whose cutting plane crosses no far-side edge: counted, still one-to-one.
 TEST(PaperTable1, CamelheadNeedsTheLtdFallbackAndCountsIt) {
-  const io::MeshData mesh = io::readMesh(test::sharedMesh("disk/camelhead.off"));
+  SDP_MESH_OR_SKIP(path, "disk/camelhead.off");
+  const io::MeshData mesh = io::readMesh(path);
   Options o;
   o.boundary = BoundaryShape::Circle;
   const Result r = parameterize(mesh.V, mesh.F, o);

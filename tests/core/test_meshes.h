@@ -71,8 +71,4 @@ inline int countNonPositiveFaces(const Result& r, const Triangles& F) {
   return bad;
 }
 
-inline std::string sharedMesh(const std::string& relative) {
-  return std::string(SDP_SHARED_DIR) + "/meshes/" + relative;
-}
-
 }  // namespace sdp::test

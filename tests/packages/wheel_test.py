@@ -99,7 +99,7 @@ def main():
           "the snippet has no load_plugin/bind_function lines")
     folder = out / "snippet"
     folder.mkdir()
-    shutil.copy(REPO / "resources" / "meshes" / "nefertiti.off", folder)
+    shutil.copy(REPO / "resources" / "meshes" / "disk" / "nefertiti.off", folder)
     done = subprocess.run([sys.executable, "-c", snippet], cwd=folder, capture_output=True,
                           text=True, timeout=300)
     print(done.stdout + done.stderr)

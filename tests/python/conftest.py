@@ -2,7 +2,8 @@
 
 Environment (set by ctest, see tests/meshlab/CMakeLists.txt):
   SDP_PLUGIN_2025      the built plugin (default: <repo>/build/plugins/meshlab-2025.07/...)
-  SDP_SHARED_DIR       folder with meshes/{disk,invalid} (default: <repo>/../shared)
+  SDP_SHARED_DIR       optional folder with extra meshes in meshes/{disk,invalid} (default:
+                       <repo>/../shared); the meshes of resources/meshes are always used
   SDP_REPORT_DIR       where the peer comparison table goes (default: <repo>/build/reports)
 """
 import os
@@ -13,12 +14,24 @@ import pytest
 FILTER = "compute_texcoord_parametrization_straightest_distances"
 REPO = pathlib.Path(__file__).resolve().parents[2]
 SHARED = pathlib.Path(os.environ.get("SDP_SHARED_DIR", REPO.parent / "shared"))
+BUNDLED = REPO / "resources" / "meshes"
 PLUGIN = pathlib.Path(os.environ.get(
     "SDP_PLUGIN_2025", REPO / "build/plugins/meshlab-2025.07/libfilter_straightest_param.so"))
 REPORT_DIR = pathlib.Path(os.environ.get("SDP_REPORT_DIR", REPO / "build/reports"))
 
-DISK_MESHES = sorted((SHARED / "meshes/disk").glob("*.off"))
-INVALID_MESHES = sorted((SHARED / "meshes/invalid").glob("*.off"))
+
+
+def test_meshes(folder):
+    """The bundled meshes of a folder plus the extra set's others, each name once, by name."""
+    found = {}
+    for root in (BUNDLED, SHARED / "meshes"):
+        for path in sorted((root / folder).glob("*.off")):
+            found.setdefault(path.name, path)
+    return [found[name] for name in sorted(found)]
+
+
+DISK_MESHES = test_meshes("disk")
+INVALID_MESHES = test_meshes("invalid")
 # Labels exactly as docs/method.md section 6 (pymeshlab takes enum values by label).
 WEIGHTS = ["Straightest distances (cutting planes)", "LTD straightest geodesics",
            "Floater shape-preserving", "Mean value", "Uniform"]

@@ -18,8 +18,8 @@ def test_readme_snippet_runs_verbatim(tmp_path):
     plugin = tmp_path / "build/plugins/meshlab-2025.07/libfilter_straightest_param.so"
     plugin.parent.mkdir(parents=True)
     os.symlink(PLUGIN, plugin)
-    (tmp_path / "resources/meshes").mkdir(parents=True)
-    shutil.copy(REPO / "resources/meshes/nefertiti.off", tmp_path / "resources/meshes")
+    (tmp_path / "resources/meshes/disk").mkdir(parents=True)
+    shutil.copy(REPO / "resources/meshes/disk/nefertiti.off", tmp_path / "resources/meshes/disk")
     out = tmp_path / "out/nefertiti_pymeshlab.obj"
     done = subprocess.run([sys.executable, "-c", match.group(1)], cwd=tmp_path,
                           capture_output=True, text=True, timeout=300)

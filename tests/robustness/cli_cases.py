@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The robustness cases (tests/robustness/CASES.md) through the straightest_param command line.
 
-usage: cli_cases.py --exe STRAIGHTEST_PARAM --workdir DIR [--shared SHARED] [--big MESH.off] CASE
+usage: cli_cases.py --exe STRAIGHTEST_PARAM --workdir DIR [--meshes DIR] [--big MESH.off] CASE
 
 One ctest per CASE (see CMakeLists.txt). Every run also checks that the input file is left as it
 was. The failure contract (cli/main.cpp, docs/method.md section 6): exit status 1, exactly one stderr line
@@ -33,10 +33,10 @@ PREFIX = "straightest_param: "
 
 
 class Cli:
-    def __init__(self, exe, workdir, shared):
+    def __init__(self, exe, workdir, meshes):
         self.exe = exe
         self.workdir = workdir
-        self.shared = shared
+        self.meshes = meshes
         shutil.rmtree(workdir, ignore_errors=True)
         os.makedirs(workdir)
         self.runs = 0
@@ -414,7 +414,7 @@ def case_unreadable(cli):
     good = meshgen.off_text(meshgen.wavy(4))
     cut_in_faces = good[:good.rindex("3 ", 0, len(good) - 40)]
     cases = {
-        "shared truncated.off": os.path.join(cli.shared, "meshes", "invalid", "truncated.off"),
+        "bundled truncated.off": os.path.join(cli.meshes, "invalid", "truncated.off"),
         "empty": write_bytes(cli, "empty.off", b""),
         "cut in the faces": write_bytes(cli, "cut.off", cut_in_faces.encode()),
         "binary garbage": write_bytes(cli, "garbage.off", bytes(range(256)) * 4),
@@ -519,7 +519,8 @@ def main():
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--exe", required=True)
     parser.add_argument("--workdir", required=True)
-    parser.add_argument("--shared", default=os.path.join(HERE, "..", "..", "..", "shared"))
+    parser.add_argument("--meshes", default=os.path.join(HERE, "..", "..", "resources", "meshes"),
+                        help="the meshes that ship with the repository")
     parser.add_argument("--big", help="a mesh too large for the memory limits (out_of_memory)")
     parser.add_argument("--list", action="store_true", help="print the case names")
     parser.add_argument("case", nargs="?")
@@ -531,7 +532,7 @@ def main():
         parser.error(f"unknown case {args.case!r}; one of: {', '.join(CASES)}")
     if args.case == "out_of_memory" and not (args.big and os.path.isfile(args.big)):
         parser.error("out_of_memory needs --big MESH.off")
-    cli = Cli(os.path.abspath(args.exe), os.path.abspath(args.workdir), args.shared)
+    cli = Cli(os.path.abspath(args.exe), os.path.abspath(args.workdir), args.meshes)
     return meshgen.report_case(args.case, lambda: CASES[args.case](cli, args))
 
 

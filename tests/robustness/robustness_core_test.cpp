@@ -21,7 +21,8 @@
 
 #include "core/parameterize.h"
 #include "mesh_io.h"
-#include "test_meshes.h"  // tests/core: grids, fans, countNonPositiveFaces, sharedMesh
+#include "test_mesh_files.h"
+#include "test_meshes.h"  // tests/core: grids, fans, countNonPositiveFaces
 
 // --- allocation failure injection ----------------------------------------------------------------
 // Every operator new of this program goes through allocate(). While armed, the allocation with
@@ -446,7 +447,8 @@ double similarityResidual(const UVs& base, const UVs& uv) {
 // The real Nefertiti patch far from the origin or scaled: the same map up to scale, for every
 // boundary.
 TEST(CoreRobustness, NefertitiMapIsScaleAndTranslationInvariant) {
-  const io::MeshData mesh = io::readMesh(test::sharedMesh("disk/nefertiti.off"));
+  SDP_MESH_OR_SKIP(path, "disk/nefertiti.off");
+  const io::MeshData mesh = io::readMesh(path);
   const double cases[][2] = {{1e-6, 0}, {1e6, 0}, {1, 1e6}, {1, -1e6}, {1e-3, 1e3}};
   for (BoundaryShape b : kAllBoundaries) {
     const Options o = with(WeightScheme::Straightest, b);
