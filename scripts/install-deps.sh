@@ -2,7 +2,8 @@
 # Installs everything the project needs on a fresh Debian 12 (bookworm), as root; safe to re-run:
 #   - Debian packages: build tools (+ clang and its libFuzzer runtime), Qt5, Eigen, GoogleTest,
 #     CGAL (benchmark peers), MeshLab 2020.09 (GUI +
-#     meshlabserver), Xvfb and X tools for the headless MeshLab tests, ImageMagick for screenshots;
+#     meshlabserver), Xvfb and X tools for the headless MeshLab tests, ImageMagick for screenshots,
+#     debootstrap (the trixie/sid roots) and dpkg-dev (the Debian packages);
 #   - the MeshLab 2020.09 / 2022.02 / 2025.07 sources whose headers the plugins compile against
 #     (scripts/fetch-meshlab-sources.sh);
 #   - Debian roots with the MeshLab 2022.02 (trixie) and 2025.07 (sid) GUIs that the plugins for
@@ -26,6 +27,7 @@ debian_packages=(
   clang libclang-rt-14-dev
   meshlab
   xvfb xauth xdotool x11-utils imagemagick
+  debootstrap dpkg-dev
 )
 python_requirements=("pymeshlab==2025.7.post1" "pytest" "numpy" "auditwheel==6.8.2")
 
