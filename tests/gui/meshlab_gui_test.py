@@ -54,6 +54,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "meshlab_roots"))
+import debian_root  # noqa: E402
+
 FILTER_NAME = "Parametrization: Straightest Distances"  # docs/method.md section 6
 MAIN_TITLE = r"^MeshLab 20[0-9.]+ - \["
 PLUGIN_ERROR_TITLE = r"^Error while loading plugins"  # MeshLab 2022+'s QMessageBox
@@ -165,21 +168,15 @@ class Gui:
         self.popen_meshlab(["nice", "-n", "5", os.path.join(prefix, "bin", "meshlab"), mesh],
                            cwd=workdir)
 
-    def start_meshlab_in_root(self, root, home, mesh, workdir):
-        """MeshLab of a Debian root; home, mesh and workdir are paths inside the root."""
+    def start_meshlab_in_root(self, root, home, mesh):
+        """MeshLab of a Debian root (tests/meshlab_roots/debian_root.py); home and mesh are
+        paths inside the root."""
         runtime = os.path.join(home, "runtime")
         os.makedirs(root + runtime, mode=0o700, exist_ok=True)
         os.chmod(root + runtime, 0o700)
-        # A private mount namespace: /proc and the X socket are mounted into the root only for
-        # this process tree and vanish with it. No PID namespace: MeshLab would be its PID 1,
-        # which ignores SIGTERM.
-        script = ('mount -t proc proc "$1/proc" && mkdir -p "$1/tmp/.X11-unix" && '
-                  'mount --bind /tmp/.X11-unix "$1/tmp/.X11-unix" && '
-                  'cd "$1$2" && exec chroot "$1" env -i DISPLAY="$3" HOME="$4" '
-                  'XDG_RUNTIME_DIR="$5" PATH=/usr/bin:/bin nice -n 5 meshlab "$6"')
-        self.popen_meshlab(["unshare", "--mount", "--propagation", "private", "sh", "-c", script,
-                            "sh", root, workdir, self.env["DISPLAY"], home, runtime, mesh],
-                           cwd="/")
+        env = {"DISPLAY": self.env["DISPLAY"], "HOME": home, "XDG_RUNTIME_DIR": runtime}
+        self.popen_meshlab(debian_root.command(root, ["nice", "-n", "5", "meshlab", mesh],
+                                               env=env, x11=True), cwd="/")
 
     def popen_meshlab(self, command, cwd):
         self.meshlab_log_path = os.path.join(self.out, "meshlab.log")
@@ -435,8 +432,7 @@ def run_test(args, gui):
 
     gui.start_xvfb()
     if args.root:
-        gui.start_meshlab_in_root(args.root, home, mesh[len(args.root):],
-                                  workdir[len(args.root):])
+        gui.start_meshlab_in_root(args.root, home, mesh[len(args.root):])
     else:
         gui.start_meshlab(args.prefix, mesh, workdir)
 

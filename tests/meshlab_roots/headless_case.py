@@ -23,6 +23,8 @@ import shutil
 import subprocess
 import sys
 
+import debian_root
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 SYSTEM_PLUGINS = "/usr/lib/x86_64-linux-gnu/meshlab/plugins"
 FILTER_NAME = "Parametrization: Straightest Distances"
@@ -61,15 +63,14 @@ def main():
         plugin = inside + "/" + os.path.basename(args.plugin) if copied_plugin else args.plugin
         mesh = inside + "/" + os.path.basename(args.mesh)
         obj = inside + "/out.obj"
-        script = ('mount -t proc proc "$1/proc" && root="$1" && home="$2" && shift 2 && '
-                  'exec chroot "$root" env -i HOME="$home" QT_QPA_PLATFORM=offscreen '
-                  'PATH=/usr/bin:/bin LD_LIBRARY_PATH=/usr/lib/x86_64-linux-gnu/meshlab '
-                  '"$home/meshlab_harness" "$@"')
         # LD_LIBRARY_PATH: MeshLab's own edit plugins (2025.07) need libmeshlab-common-gui.so,
         # which the meshlab binary finds through its RUNPATH; a RUNPATH is not passed on to the
         # plugins the harness loads.
-        command = (["unshare", "--mount", "--propagation", "private", "sh", "-c", script, "sh",
-                    root, inside, SYSTEM_PLUGINS, plugin, mesh, obj] + args.parameters)
+        env = {"HOME": inside, "QT_QPA_PLATFORM": "offscreen",
+               "LD_LIBRARY_PATH": "/usr/lib/x86_64-linux-gnu/meshlab"}
+        command = debian_root.command(
+            root, [inside + "/meshlab_harness", SYSTEM_PLUGINS, plugin, mesh, obj] + args.parameters,
+            env=env)
         result = subprocess.run(command, capture_output=True, text=True, timeout=600)
         output = result.stdout + result.stderr
         print(output)

@@ -26,6 +26,9 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 CHECK_OBJ = os.path.join(HERE, "..", "meshlab", "check_obj_uv.py")
 HEADLESS = os.path.join(HERE, "..", "meshlab_roots", "headless_case.py")
+sys.path.insert(0, os.path.join(HERE, "..", "meshlab_roots"))
+import debian_root  # noqa: E402
+
 PLUGIN = "/usr/lib/x86_64-linux-gnu/meshlab/plugins/libfilter_straightest_param.so"
 FILES = [PLUGIN, "/usr/bin/straightest_param", "/usr/share/straightest_param/straightest_param.mlx"]
 
@@ -53,12 +56,8 @@ class Target:
     def run(self, *command, env=None):
         if not self.root:
             return run(list(command), env=dict(os.environ, **(env or {})))
-        script = ('mount -t proc proc "$1/proc" && root="$1" && shift && '
-                  'exec chroot "$root" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin '
-                  'DEBIAN_FRONTEND=noninteractive "$@"')
-        extra = ["%s=%s" % kv for kv in (env or {}).items()]
-        return run(["unshare", "--mount", "--propagation", "private", "sh", "-c", script, "sh",
-                    self.root] + (["env"] + extra if extra else []) + list(command))
+        return run(debian_root.command(self.root, command,
+                                       env=dict(DEBIAN_FRONTEND="noninteractive", **(env or {}))))
 
     def installed(self, package):
         result = self.run("dpkg-query", "-W", "-f=${Status}", package)
