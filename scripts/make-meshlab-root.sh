@@ -39,12 +39,9 @@ if ! command -v debootstrap >/dev/null; then
     { apt-get update >&2 && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends debootstrap >&2; }
 fi
 
-mirror="${SDP_DEBIAN_MIRROR:-}"
-if [[ -z "$mirror" ]]; then
-  mirror=$(awk 'tolower($1) == "uris:" { for (i = 2; i <= NF; i++) print $i }' \
-    /etc/apt/sources.list.d/*.sources 2>/dev/null | grep -v -- '-security' | head -n1 || true)
-  [[ -n "$mirror" ]] || mirror=http://deb.debian.org/debian
-fi
+source "$(dirname "${BASH_SOURCE[0]}")/debian-mirror.sh"
+mirror="${SDP_DEBIAN_MIRROR:-$(machine_mirror)}"
+mirror=${mirror:-http://deb.debian.org/debian}
 mirror=${mirror%/}
 
 started=$SECONDS
