@@ -242,6 +242,11 @@ function(sdp_add_filter_plugin_gui_build target version folder suite source_dir 
   # Not into this machine's MeshLab (2020.09): the README says where each goes on its system.
   install(TARGETS ${target} LIBRARY DESTINATION "lib/straightest_param/${folder}"
           COMPONENT ${component})
+  # What tests/meshlab_roots needs to run this build in its root, said once, here.
+  set_target_properties(${target} PROPERTIES SDP_MESHLAB_VERSION ${version}
+                        SDP_MESHLAB_SOURCE_DIR "${source_dir}" SDP_ROOT_SUITE ${suite}
+                        SDP_MESHLAB_COMMON_LIBRARY "${common}")
+  set_property(GLOBAL APPEND PROPERTY SDP_ROOT_PLUGIN_TARGETS ${target})
   set(SDP_BUILT_MESHLAB_PLUGINS ${SDP_BUILT_MESHLAB_PLUGINS} ${folder} PARENT_SCOPE)
 endfunction()
 sdp_add_filter_plugin_gui_build(filter_straightest_param_meshlab2022 2022.02 meshlab-2022.02 trixie
