@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -21,17 +22,14 @@ inline std::string meshFile(const std::string& relative) {
 
 // Every file of a mesh folder ("invalid"), bundled and extra, each name once.
 inline std::vector<std::string> meshFilesIn(const std::string& folder) {
-  std::vector<std::string> names, paths;
+  std::set<std::string> names;
+  std::vector<std::string> paths;
   for (const char* root : {SDP_BUNDLED_MESH_DIR, SDP_SHARED_DIR "/meshes"}) {
     const std::filesystem::path dir = std::filesystem::path(root) / folder;
     if (!std::filesystem::is_directory(dir)) continue;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      bool seen = false;
-      for (const std::string& n : names) seen = seen || n == name;
-      if (seen || entry.path().extension() != ".off") continue;
-      names.push_back(name);
-      paths.push_back(entry.path().string());
+      if (entry.path().extension() == ".off" && names.insert(entry.path().filename()).second)
+        paths.push_back(entry.path().string());
     }
   }
   return paths;
