@@ -47,7 +47,11 @@ options:
   --source N              source vertex index of the measured boundary (default: automatic)
   --source-rule R         automatic source: farthest (from the boundary, default) or centroid
                           (nearest the centroid of the boundary vertices)
-  --stretch-iterations K  stretch-minimizing refinement steps (default 0: the linear method)
+  --stretch-iterations K  most stretch-minimizing refinement steps per stage (default 10;
+                          0: the paper's linear map). A stage also ends at a step that lowers
+                          the L2 stretch by less than 0.1%, or when the time budget is used
+  --time-budget F         refinement may take F times the linear map's time, at least 1.5 s
+                          (default 2; 0: no time limit, the same map on every machine)
   --fixed-boundary        refinement keeps the measured boundary where it is (default: after
                           the reweighting, K checked steps that let it move too, then on patches
                           up to 50k vertices K Newton steps on the stretch; circle and square
@@ -77,7 +81,7 @@ struct Arguments {
   std::string input;
   std::string output;
   std::string report_path;  // empty: no report file
-  sdp::Options options;
+  sdp::Options options = sdp::productDefaults();
   int checkers = 16;
   int texture_size = 1024;
   bool quiet = false;
@@ -191,6 +195,8 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
           parseIntOption(arg, value(), -1, std::numeric_limits<int>::max());
     } else if (arg == "--stretch-iterations") {
       args.options.stretch_iterations = parseIntOption(arg, value(), 0, 1000);
+    } else if (arg == "--time-budget") {
+      args.options.refine_time_factor = parseIntOption(arg, value(), 0, 1000);
     } else if (arg == "--report") {
       args.report_path = value();
       if (args.report_path.empty()) throw UsageError("--report needs a file name");
@@ -240,7 +246,14 @@ class WrittenFiles {
 
 int run(const Arguments& args) {
   const sdp::io::MeshData mesh = sdp::io::readMesh(args.input);
-  sdp::Result result = sdp::parameterize(mesh.V, mesh.F, args.options);
+  // The written texture coordinates span [0,1] so the checkerboard covers the patch once,
+  // unless the caller wants the core's own scale (area-matched for the measured boundary). PLY
+  // holds them in single precision, OBJ in full: the core makes the map one-to-one as stored.
+  sdp::Options options = args.options;
+  options.fit_unit_square = !args.natural_scale;
+  options.storage =
+      lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
+  sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
   sdp::Report& report = result.report;
   if (mesh.polygons_triangulated > 0) {
     report.warnings.insert(report.warnings.begin(),
@@ -249,21 +262,6 @@ int run(const Arguments& args) {
   }
   std::string json = report.toJson();
   if (json.empty() || json.back() != '\n') json += '\n';
-  // The written texture coordinates span [0,1] so the checkerboard covers the patch once,
-  // unless the caller wants the core's own scale (area-matched for the measured boundary).
-  if (!args.natural_scale) sdp::fitUnitSquare(result.uv, mesh.F);
-  if (lowercaseExtension(args.output) == ".ply") {
-    // PLY holds texture coordinates in single precision: a map that is one-to-one in double
-    // can collapse faces there (tiny faces of a strongly compressed map). Never write that.
-    const sdp::UVs rounded = result.uv.cast<float>().cast<double>();
-    const int collapsed = sdp::measureUVs(mesh.V, mesh.F, rounded).flipped_faces;
-    if (collapsed > 0)
-      throw sdp::ParameterizationError(
-          std::to_string(collapsed) +
-          " faces collapse in PLY's single-precision texture coordinates; write OBJ instead "
-          "(full precision)");
-  }
-
   WrittenFiles written;
   const fs::path out(args.output);
   if (lowercaseExtension(args.output) == ".obj") {

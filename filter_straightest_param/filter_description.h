@@ -39,7 +39,7 @@ struct FilterValues {
   int weights = 0;
   int boundary = 0;
   int source_vertex = -1;
-  int stretch_iterations = 0;
+  int stretch_iterations = sdp::kDefaultStretchIterations;
   bool selected_only = false;
   std::string texture_name = "straightest_checker.png";
   int checkers = 16;

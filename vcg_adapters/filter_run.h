@@ -32,6 +32,7 @@ template <class MeshType>
 FilterRun runParameterization(const MeshType& mesh, const sdp::filter::FilterValues& values,
                               const ProgressSink& progress = {}) {
   sdp::Options options = sdp::filter::toOptions(values);
+  setMeshLabStorage(options);
   FilterRun run;
   run.input = extractPatch(mesh, values.selected_only);
 
@@ -77,7 +78,7 @@ inline std::string formatReportValue(const char* format, double value) {
 }
 
 // docs/method.md §6 report values (the pymeshlab dict). Stretch and flips describe the UVs as the
-// mesh stores them (see prepareResult()); the rest comes from the core's report.
+// mesh stores them (the core measured them so, see setMeshLabStorage()).
 struct ReportValues {
   double l2_stretch = 0;
   double linf_stretch = 0;
@@ -117,18 +118,6 @@ inline std::vector<std::string> reportLines(const FilterRun& run, const sdp::UVM
                   std::to_string(values.fallbacks) + ", source vertex " +
                   std::to_string(values.source_vertex) + ", " +
                   formatReportValue("%.3f", values.seconds) + " s");
-  if (stored.flipped_faces > 0) {
-    lines.push_back(
-        "warning: " + std::to_string(stored.flipped_faces) +
-        " faces are degenerate once stored in MeshLab's single-precision texture "
-        "coordinates (one-to-one in double precision: the map compresses them too much)");
-  }
-  const double tolerance = 1e-4 * std::max(1.0, r.linf_stretch);
-  if (std::abs(stored.linf_stretch - r.linf_stretch) > tolerance) {
-    lines.push_back("in double precision before storing: L2 stretch " +
-                    formatReportValue("%.4f", r.l2_stretch) + ", Linf stretch " +
-                    formatReportValue("%.4f", r.linf_stretch));
-  }
   if (r.fallbacks > 0) {
     lines.push_back("fallbacks: straightest->ltd " + std::to_string(r.straightest_to_ltd) +
                     ", degenerate rings " + std::to_string(r.degenerate_rings) + ", walks " +

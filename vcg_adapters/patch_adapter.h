@@ -108,9 +108,6 @@ struct WriteOptions {
   bool vertex_texcoords = false;  // also per-vertex UVs
   bool face_quality = true;       // per-face quality = normalized L2 stretch of the stored face
   short texture_index = 0;
-  // Scale and move the UVs uniformly into [0,1]^2 so that a texture image covers the patch; a
-  // uniform positive scale changes neither flips nor the normalized stretch metrics.
-  bool fit_unit_square = true;
 };
 
 namespace detail {
@@ -152,41 +149,48 @@ void enableResultComponents(MeshType& mesh, const WriteOptions& options) {
 template <class MeshType>
 using TexScalarOf = typename MeshType::FaceType::TexCoordType::ScalarType;
 
-// The UVs exactly as the mesh will hold them, and their measures. Rounding to single precision
-// can move the tiny triangles of a strongly compressed map enough to change L-infinity (and in
-// the worst case degenerate a face), so the report describes the stored map, not the double one.
+// What the core returns for MeshLab: UVs in the unit square, rounded to what MeshLab's float
+// texture coordinates and its OBJ exporter's 6 decimals hold, one-to-one as stored.
+inline void setMeshLabStorage(sdp::Options& options) {
+  options.fit_unit_square = true;
+  options.storage = sdp::UVStorage::FloatAndSixDecimals;
+}
+
+// The UVs exactly as the mesh will hold them, and their measures (the core measured the map as
+// stored, see setMeshLabStorage).
 template <class TexScalar>
 struct StoredResult {
-  std::vector<TexScalar> u, v;  // per core vertex, fitted as WriteOptions asks
+  std::vector<TexScalar> u, v;  // per core vertex
   sdp::UVMeasures metrics;      // of the stored UVs (flips, L2, L-infinity, per-face L2)
 };
 
-// Computes what applyResult() writes, without touching the mesh.
+// Computes what applyResult() writes, without touching the mesh. The core's UVs must already be
+// storable: a value the mesh cannot hold exactly would change the map after its final check.
 template <class MeshType>
 StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result,
-                                                  const WriteOptions& options = {}) {
-  if (result.uv.rows() != static_cast<Eigen::Index>(in.mesh_vertex.size())) {
+                                                  const WriteOptions& = {}) {
+  using TexScalar = TexScalarOf<MeshType>;
+  if (result.uv.rows() != static_cast<Eigen::Index>(in.mesh_vertex.size()) ||
+      result.face_stretch.size() != in.mesh_face.size()) {
     throw sdp::ParameterizationError("internal error: the result does not match the patch");
   }
-  sdp::UVs fitted = result.uv;
-  if (options.fit_unit_square) sdp::fitUnitSquare(fitted, in.triangles);
-  StoredResult<TexScalarOf<MeshType>> stored;
+  StoredResult<TexScalar> stored;
   const size_t n = in.mesh_vertex.size();
   stored.u.resize(n);
   stored.v.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    stored.u[i] = static_cast<TexScalarOf<MeshType>>(fitted(i, 0));
-    stored.v[i] = static_cast<TexScalarOf<MeshType>>(fitted(i, 1));
+    stored.u[i] = static_cast<TexScalar>(result.uv(i, 0));
+    stored.v[i] = static_cast<TexScalar>(result.uv(i, 1));
+    if (static_cast<double>(stored.u[i]) != result.uv(i, 0) ||
+        static_cast<double>(stored.v[i]) != result.uv(i, 1)) {
+      throw sdp::ParameterizationError(
+          "internal error: the texture coordinates were not rounded for MeshLab's storage");
+    }
   }
-
-  // Measured by the core's own metric on its own patch (virtual hole fills, if any, sit after
-  // the real vertices and faces and are not measured).
-  sdp::UVs stored_uv(n, 2);
-  for (size_t i = 0; i < n; ++i) stored_uv.row(i) << stored.u[i], stored.v[i];
-  stored.metrics = sdp::measureUVs(in.positions, in.triangles, stored_uv);
-  if (stored.metrics.face_stretch.size() != in.mesh_face.size()) {
-    throw sdp::ParameterizationError("internal error: the measures do not match the patch");
-  }
+  const sdp::Report& r = result.report;
+  if (r.flipped_faces > 0)
+    throw sdp::ParameterizationError("internal error: the map to store has flipped faces");
+  stored.metrics = {r.l2_stretch, r.linf_stretch, r.flipped_faces, result.face_stretch};
   return stored;
 }
 

@@ -196,7 +196,7 @@ bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
 
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                StretchMetrics& metrics, FreeBoundaryCounts& counts,
-                               const ProgressCallback& progress) {
+                               const ProgressCallback& progress, const RefineBudget& budget) {
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
@@ -243,9 +243,11 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
     Eigen::MatrixX2d solved(n - 1, 2);
 
     Eigen::MatrixX2d rhs(n - 1, 2);
+    int steps_without_gain = 0;  // L2 is not what ARAP lowers: allow one step that does not
     for (int step = 0; step < steps; ++step) {
       if (progress && !progress("free boundary", 95 + 2 * step / steps))
         throw ParameterizationError("cancelled by the user");
+      if (budget.expired()) break;
       // Local step: the rotation closest to each face's current map (2x2 polar decomposition
       // in closed form). Global step: the positions that best fit all the rotated faces.
       rhs.setZero();
@@ -293,11 +295,13 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
         ++counts.steps_taken;
         if (halvings > 0) ++counts.steps_shortened;
         current.swap(candidate);
+        steps_without_gain = budget.gained(metrics.l2, measured.l2) ? 0 : steps_without_gain + 1;
         if (measured.l2 < metrics.l2) {
           metrics = std::move(measured);
           best = current;
         }
       }
+      if (steps_without_gain >= 2) break;
       if (!taken) {
         counts.stopped = true;
         break;

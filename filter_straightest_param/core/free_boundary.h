@@ -14,6 +14,7 @@
 #include "metrics.h"
 #include "options.h"
 #include "patch.h"
+#include "refine_budget.h"
 #include "solve.h"
 
 namespace sdp {
@@ -31,7 +32,8 @@ struct FreeBoundaryCounts {
 // (ParameterizationError "cancelled by the user").
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                StretchMetrics& metrics, FreeBoundaryCounts& counts,
-                               const ProgressCallback& progress = {});
+                               const ProgressCallback& progress = {},
+                               const RefineBudget& budget = {});
 
 // Face f laid flat isometrically: corner 0 at the origin, corner 1 on the positive x axis,
 // corner 2 above it (all at the origin when edge 0 has no length).

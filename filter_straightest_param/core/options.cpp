@@ -1,5 +1,7 @@
 #include "options.h"
 
+#include "refine_budget.h"
+
 namespace sdp {
 namespace {
 
@@ -24,6 +26,40 @@ const char* boundaryShapeName(BoundaryShape b) {
 }
 const char* sourceRuleName(SourceRule r) {
   return kSourceRuleNames[static_cast<int>(r)];
+}
+
+Options productDefaults() {
+  Options options;
+  options.stretch_iterations = kDefaultStretchIterations;
+  options.refine_time_factor = kDefaultRefineTimeFactor;
+  options.refine_min_seconds = kDefaultRefineMinSeconds;
+  return options;
+}
+
+const char* refineStopName(RefineStop stop) {
+  switch (stop) {
+    case RefineStop::NotRun:
+      return "not run";
+    case RefineStop::Iterations:
+      return "iterations";
+    case RefineStop::Converged:
+      return "converged";
+    case RefineStop::TimeBudget:
+      return "time budget";
+  }
+  return "?";
+}
+
+const char* uvStorageName(UVStorage storage) {
+  switch (storage) {
+    case UVStorage::Double:
+      return "double";
+    case UVStorage::Float:
+      return "float";
+    case UVStorage::FloatAndSixDecimals:
+      return "float, 6 decimals";
+  }
+  return "?";
 }
 
 std::optional<WeightScheme> parseWeightScheme(const std::string& name) {

@@ -12,6 +12,13 @@ enum class BoundaryShape { Measured, Circle, Square };
 // How the source vertex S of the measured boundary is chosen when the user gives none.
 enum class SourceRule { FarthestFromBoundary, NearestBoundaryCentroid };
 
+// How the front end stores the UVs; the map is one-to-one as stored (storage.h).
+enum class UVStorage {
+  Double,               // full precision (the CLI's OBJ)
+  Float,                // single precision (PLY)
+  FloatAndSixDecimals,  // MeshLab: float in memory, "%f" (6 decimals) in its OBJ files
+};
+
 constexpr int kWeightSchemeCount = 5;
 constexpr int kBoundaryShapeCount = 3;
 
@@ -19,6 +26,7 @@ constexpr int kBoundaryShapeCount = 3;
 const char* weightSchemeName(WeightScheme w);
 const char* boundaryShapeName(BoundaryShape b);
 const char* sourceRuleName(SourceRule r);
+const char* uvStorageName(UVStorage storage);
 std::optional<WeightScheme> parseWeightScheme(const std::string& name);
 std::optional<BoundaryShape> parseBoundaryShape(const std::string& name);
 std::optional<SourceRule> parseSourceRule(const std::string& name);
@@ -27,13 +35,20 @@ std::optional<SourceRule> parseSourceRule(const std::string& name);
 // the run (the core then throws ParameterizationError("cancelled")).
 using ProgressCallback = std::function<bool(const char* stage, int percent)>;
 
+// The product's defaults for every front end (dialog, pymeshlab, CLI): refined, with a time
+// budget of twice the linear map's time (so at most about 3x its cost on large patches), and at
+// least 1.5 s, so small and medium patches are refined to convergence.
+constexpr int kDefaultStretchIterations = 10;
+constexpr double kDefaultRefineTimeFactor = 2.0;
+constexpr double kDefaultRefineMinSeconds = 1.5;
+
 struct Options {
   WeightScheme weights = WeightScheme::Straightest;
   BoundaryShape boundary = BoundaryShape::Measured;
   int source_vertex = -1;  // -1: automatic (source_rule); else an index into the input vertices
   SourceRule source_rule = SourceRule::FarthestFromBoundary;
   int outer_boundary_vertex = -1;  // with holes: a vertex on the outer loop; -1: longest loop
-  int stretch_iterations = 0;      // 0: the paper's linear method
+  int stretch_iterations = 0;      // 0: the paper's linear method; else the most steps per loop
   // eta of the Yoshizawa-Belyaev-Seidel reweighting: 0.5 gave the lowest stretch of
   // {0.5, 1, 2} on the shared meshes (K = 10 and 30, sdp_bench --stretch-exponent).
   double stretch_exponent = 0.5;
@@ -41,7 +56,22 @@ struct Options {
   // the fixed boundary, K as-rigid-as-possible steps that move the boundary too
   // (free_boundary.h), each checked to keep the map one-to-one. Circle and square stay as asked.
   bool free_boundary = true;
+  // When refinement stops before stretch_iterations (refine_budget.h): a step lowering L2 by
+  // less than this relative amount ends its loop; refinement ends once it has run
+  // max(refine_min_seconds, refine_time_factor x the linear map's time). 0: no time limit
+  // (deterministic). The front ends use kDefaultRefine* below.
+  double refine_min_gain = 1e-3;
+  double refine_time_factor = 0;
+  double refine_min_seconds = 0;
+  // The frame and precision of the returned UVs: fitted (aspect kept) so the faces span [0,1] on
+  // the longer side, or the core's natural scale (3D units); rounded to what the storage holds,
+  // and repaired where rounding would degenerate a face.
+  bool fit_unit_square = false;
+  UVStorage storage = UVStorage::Double;
   ProgressCallback progress;
 };
+
+// Options with the product's refinement defaults (kDefault* above), as every front end starts.
+Options productDefaults();
 
 }  // namespace sdp

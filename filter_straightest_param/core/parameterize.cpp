@@ -1,5 +1,6 @@
 #include "parameterize.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include "metrics.h"
 #include "patch.h"
 #include "solve.h"
+#include "storage.h"
 #include "stretch_newton.h"
 #include "weights.h"
 
@@ -98,6 +100,22 @@ void fitUnitSquare(UVs& uv, const Triangles& F) {
 }
 
 namespace {
+
+// fitUnitSquare on the patch's own UVs: the real vertices span [0,1] on the longer side.
+void fitUnitSquareLocal(const Patch& patch, LocalUVs& uv) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high = -low;
+  for (int v = 0; v < patch.real_vertex_count; ++v) {
+    low = low.cwiseMin(uv[v]);
+    high = high.cwiseMax(uv[v]);
+  }
+  const double extent = (high - low).maxCoeff();
+  if (!(extent > 0) || !std::isfinite(extent))
+    throw ParameterizationError("the parameterization has no extent");
+  const Eigen::Vector2d centre = 0.5 * (low + high);
+  for (auto& p : uv) p = (p - centre) / extent + Eigen::Vector2d::Constant(0.5);
+}
+
 UVMeasures measureUVsChecked(const Positions& V, const Triangles& F, const UVs& uv);
 }  // namespace
 
@@ -261,13 +279,39 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
   report.l2_stretch_linear = metrics.l2;
 
   if (options.stretch_iterations > 0) {
+    // The time budget is split in thirds with absolute deadlines: the reweighting, the ARAP
+    // steps and the Newton steps each get their third plus what the loops before left unused
+    // (on camel_b the free boundary does nearly all the work, so it must not be starved).
+    const auto refine_start = Clock::now();
+    double budget_seconds = std::numeric_limits<double>::infinity();
+    if (options.refine_time_factor > 0) {
+      const double linear = std::chrono::duration<double>(refine_start - run_start).count();
+      budget_seconds = std::max(options.refine_min_seconds, options.refine_time_factor * linear);
+    }
+    auto budgetUntil = [&](double fraction) {
+      RefineBudget budget;
+      budget.min_gain = options.refine_min_gain;
+      if (std::isfinite(budget_seconds))
+        budget.deadline =
+            refine_start + std::chrono::duration_cast<Clock::duration>(
+                               std::chrono::duration<double>(fraction * budget_seconds));
+      return budget;
+    };
+    RefineStop stop = RefineStop::Iterations;
+    auto note = [&](const RefineBudget& budget) {
+      if (budget.stop == RefineStop::TimeBudget || stop != RefineStop::TimeBudget)
+        stop = budget.stop == RefineStop::NotRun ? RefineStop::Iterations : budget.stop;
+    };
+
     clock.begin("refine", 85);
+    const RefineBudget reweighting = budgetUntil(1.0 / 3);
     std::vector<double> refined = weights;
     StretchMetrics current = metrics;
     for (int it = 1; it <= options.stretch_iterations; ++it) {
       if (options.progress &&
           !options.progress("refine", 85 + 10 * it / options.stretch_iterations))
         throw ParameterizationError("cancelled by the user");
+      if (it > 1 && reweighting.expired()) break;
       reweightByStretch(patch, current.vertex_l2, options.stretch_exponent, refined);
       LocalUVs candidate;
       do {
@@ -276,12 +320,15 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
       } while (current.flipped_faces > 0 && solver.tighten());
       report.stretch_iterations_run = it;
       if (current.flipped_faces > 0) break;  // numerically folded: keep the best so far
+      const bool gained = reweighting.gained(metrics.l2, current.l2);
       if (current.l2 < metrics.l2) {
         metrics = current;
         uv.swap(candidate);
         report.best_iteration = it;
       }
+      if (!gained) break;
     }
+    note(reweighting);
     clock.end();
     report.l2_stretch_fixed_boundary = metrics.l2;
     // Only the measured boundary is let go: it stands for the patch's own outline, which this
@@ -292,22 +339,24 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
         throw ParameterizationError("cancelled by the user");
       clock.begin("free_boundary", 95);
       FreeBoundaryCounts counts;
+      const RefineBudget arap = budgetUntil(2.0 / 3);
       uv = relaxWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, counts,
-                                 options.progress);
+                                 options.progress, arap);
+      note(arap);
       // Then Newton steps on the L2 stretch itself: they go on where ARAP's optimum folds.
       StretchNewtonCounts newton;
+      const RefineBudget newton_budget = budgetUntil(1.0);
       uv = minimizeStretchWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, newton,
-                                           options.progress);
+                                           options.progress, newton_budget);
+      note(newton_budget);
       report.free_boundary_steps = counts.steps_taken + newton.steps_taken;
       clock.end();
     }
+    report.refinement_stop = refineStopName(stop);
   }
 
   report.boundary_used = boundaryShapeName(shape);
   report.source_vertex = shape == BoundaryShape::Measured ? patch.input_vertex[source] : -1;
-  report.l2_stretch = metrics.l2;
-  report.linf_stretch = metrics.linf;
-  report.flipped_faces = metrics.flipped_faces;
   report.straightest_to_ltd = weight_counts.straightest_to_ltd;
   report.degenerate_rings = weight_counts.degenerate_rings;
   report.walk_fallbacks = measured_counts.walk_failures + measured_counts.walk_detours;
@@ -325,9 +374,33 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
                               " boundary distances used the edge-graph distance (plane walk failed "
                               "or wandered)");
 
+  // The map as the front end stores it: in its frame, rounded, repaired where rounding would
+  // degenerate a face (storage.h); the report then describes exactly those UVs.
+  clock.begin("storage", 98);
+  for (auto& p : uv) p *= patch.unit;
+  if (options.fit_unit_square) fitUnitSquareLocal(patch, uv);
+  const StorageCounts storage = roundForStorage(patch, uv, options.storage);
+  if (options.fit_unit_square || options.storage != UVStorage::Double) {
+    metrics = stretchMetrics(patch, uv);
+    if (metrics.flipped_faces > 0)
+      throw ParameterizationError("internal error: the stored map has flipped faces");
+  }
+  report.storage = uvStorageName(options.storage);
+  report.storage_degenerate_faces = storage.degenerate_faces;
+  report.storage_moved_vertices = storage.moved_vertices;
+  if (storage.degenerate_faces > 0)
+    report.warnings.push_back(
+        std::to_string(storage.degenerate_faces) + " faces would degenerate in " + report.storage +
+        " texture coordinates; moved " + std::to_string(storage.moved_vertices) +
+        " vertices to keep the map one-to-one as stored");
+  clock.end();
+  report.l2_stretch = metrics.l2;
+  report.linf_stretch = metrics.linf;
+  report.flipped_faces = metrics.flipped_faces;
+
   result.uv = UVs::Zero(V.rows(), 2);
   for (int v = 0; v < patch.real_vertex_count; ++v)
-    result.uv.row(patch.input_vertex[v]) = patch.unit * uv[v].transpose();
+    result.uv.row(patch.input_vertex[v]) = uv[v].transpose();
   result.face_stretch = std::move(metrics.face_l2);
   report.seconds = std::chrono::duration<double>(Clock::now() - run_start).count();
   if (options.progress) options.progress("done", 100);

@@ -65,11 +65,15 @@ std::string Report::toJson() const {
   o << "  \"l2_stretch_linear\": " << jsonNumber(l2_stretch_linear) << ",\n";
   o << "  \"l2_stretch_fixed_boundary\": " << jsonNumber(l2_stretch_fixed_boundary) << ",\n";
   o << "  \"free_boundary_steps\": " << free_boundary_steps << ",\n";
+  o << "  \"refinement_stop\": " << jsonString(refinement_stop) << ",\n";
   o << "  \"fallback_counts\": {\"straightest_to_ltd\": " << straightest_to_ltd
     << ", \"degenerate_rings\": " << degenerate_rings << ", \"walk_fallbacks\": " << walk_fallbacks
     << ", \"boundary_fallbacks\": " << boundary_fallbacks << "},\n";
   o << "  \"unreferenced_vertices\": " << unreferenced_vertices << ",\n";
   o << "  \"holes_filled\": " << holes_filled << ",\n";
+  o << "  \"storage\": {\"precision\": " << jsonString(storage)
+    << ", \"degenerate_faces\": " << storage_degenerate_faces
+    << ", \"moved_vertices\": " << storage_moved_vertices << "},\n";
   o << "  \"stage_seconds\": {";
   for (size_t i = 0; i < stage_seconds.size(); ++i)
     o << (i ? ", " : "") << jsonString(stage_seconds[i].first) << ": "

@@ -22,6 +22,9 @@ struct Report {
   double l2_stretch_linear = 0;          // L2 of the linear map before refinement
   double l2_stretch_fixed_boundary = 0;  // L2 after the reweighting, before the free boundary
   int free_boundary_steps = 0;           // free-boundary steps taken (0: the boundary stayed)
+  // Why refinement ended (refine_budget.h): "iterations", "converged" or "time budget" (the
+  // budget wins when any loop ran out of time); "not run" for the linear map.
+  std::string refinement_stop = "not run";
   // Fallbacks, all counted; `fallbacks` is their sum.
   int fallbacks = 0;
   int straightest_to_ltd = 0;  // neighbours whose cutting plane crossed no far-side edge
@@ -30,7 +33,12 @@ struct Report {
   int boundary_fallbacks = 0;  // whole-boundary fallbacks (e.g. measured -> circle)
   int unreferenced_vertices = 0;
   int holes_filled = 0;  // inner boundary loops filled virtually for the solve
-  double seconds = 0;    // wall time of the parameterization (no file I/O)
+  // The UVs as stored (Options::storage): l2/linf/flips above describe them. Faces that rounding
+  // would have flipped or collapsed, and the vertices moved to keep them one-to-one.
+  std::string storage = "double";
+  int storage_degenerate_faces = 0;
+  int storage_moved_vertices = 0;
+  double seconds = 0;  // wall time of the parameterization (no file I/O)
   std::vector<std::pair<std::string, double>> stage_seconds;  // in run order
   std::vector<std::string> warnings;                          // one line each, for logs
 

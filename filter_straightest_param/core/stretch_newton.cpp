@@ -106,7 +106,8 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
 
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                          StretchMetrics& metrics, StretchNewtonCounts& counts,
-                                         const ProgressCallback& progress) {
+                                         const ProgressCallback& progress,
+                                         const RefineBudget& budget) {
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
@@ -155,6 +156,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     for (int it = 0; it < steps; ++it) {
       if (progress && !progress("free boundary", 97 + 2 * it / steps))
         throw ParameterizationError("cancelled by the user");
+      if (budget.expired()) break;
       // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature and
       // the cross terms dQ dS^T are left out, as the energy is scale-invariant and each step is
       // rescaled: a positive definite approximation, so the step still descends).
@@ -251,10 +253,12 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         current.swap(candidate);
         const double before = energy.value();
         energy = trial;
+        const bool gained = budget.gained(metrics.l2, measured.l2);
         if (measured.l2 < metrics.l2) {
           metrics = std::move(measured);
           best = current;
         }
+        if (!gained) return best;
         if (!(energy.value() < before * (1 - 1e-9))) {
           counts.stopped = true;  // converged as far as doubles tell
           return best;

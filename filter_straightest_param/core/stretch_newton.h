@@ -21,6 +21,7 @@
 #include "metrics.h"
 #include "options.h"
 #include "patch.h"
+#include "refine_budget.h"
 #include "solve.h"
 
 namespace sdp {
@@ -38,6 +39,7 @@ struct StretchNewtonCounts {
 // Virtual hole-fill vertices keep their positions. `progress` as in relaxWithFreeBoundary.
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                          StretchMetrics& metrics, StretchNewtonCounts& counts,
-                                         const ProgressCallback& progress = {});
+                                         const ProgressCallback& progress = {},
+                                         const RefineBudget& budget = {});
 
 }  // namespace sdp

@@ -1,0 +1,134 @@
+// The map one-to-one as stored (docs/method.md §5) and the refinement's stopping rule (§4).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "core/parameterize.h"
+#include "test_meshes.h"
+
+namespace sdp {
+namespace {
+
+// A gently curved grid whose centre vertex sits 1e-7 of an edge from its neighbour: one-to-one
+// in double, but its two needle faces collapse in float or in 6 decimals.
+test::Mesh needleGrid() {
+  test::Mesh m = test::grid(8, 1, 1, [](double x, double y) { return 0.1 * std::sin(3 * x + y); });
+  const int v = 4 * 9 + 4, w = 4 * 9 + 5;
+  m.V.row(v) = m.V.row(v) + (m.V.row(w) - m.V.row(v)) * (1 - 1e-7);
+  return m;
+}
+
+// What MeshLab's OBJ exporter writes for a stored float ("%f"), read back.
+double asObjText(double stored) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%f", static_cast<double>(static_cast<float>(stored)));
+  return std::strtod(text, nullptr);
+}
+
+int nonPositiveFaces(const UVs& uv, const Triangles& F, double (*as_stored)(double)) {
+  int bad = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    double p[3][2];
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 2; ++k) p[c][k] = as_stored(uv(F(f, c), k));
+    const double cross =
+        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    if (!(cross > 0)) ++bad;
+  }
+  return bad;
+}
+
+double asFloat(double x) {
+  return static_cast<float>(x);
+}
+
+TEST(Storage, NeedleFacesCollapseWhenRoundedNaively) {
+  const test::Mesh m = needleGrid();
+  Options o;
+  o.fit_unit_square = true;
+  const Result r = parameterize(m.V, m.F, o);
+  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, [](double x) { return x; }), 0);
+  EXPECT_GT(nonPositiveFaces(r.uv, m.F, asFloat), 0) << "the case no longer needs a repair";
+  EXPECT_GT(nonPositiveFaces(r.uv, m.F, asObjText), 0) << "the case no longer needs a repair";
+  EXPECT_EQ(r.report.storage, "double");
+  EXPECT_EQ(r.report.storage_degenerate_faces, 0);
+}
+
+TEST(Storage, MeshLabStorageIsRepairedAndExact) {
+  const test::Mesh m = needleGrid();
+  Options o;
+  o.fit_unit_square = true;
+  o.storage = UVStorage::FloatAndSixDecimals;
+  const Result r = parameterize(m.V, m.F, o);
+  EXPECT_EQ(r.report.storage, "float, 6 decimals");
+  EXPECT_EQ(r.report.storage_degenerate_faces, 2);
+  EXPECT_GT(r.report.storage_moved_vertices, 0);
+  EXPECT_EQ(r.report.flipped_faces, 0);
+  for (Eigen::Index i = 0; i < r.uv.rows(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_EQ(asFloat(r.uv(i, k)), r.uv(i, k)) << "not a float: vertex " << i;
+      EXPECT_NEAR(asObjText(r.uv(i, k)), r.uv(i, k), 3e-8) << "not 6 decimals: vertex " << i;
+    }
+  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, asFloat), 0);
+  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, asObjText), 0);
+  // The report describes the stored map.
+  const UVMeasures stored = measureUVs(m.V, m.F, r.uv);
+  EXPECT_DOUBLE_EQ(stored.l2_stretch, r.report.l2_stretch);
+  EXPECT_DOUBLE_EQ(stored.linf_stretch, r.report.linf_stretch);
+}
+
+TEST(Storage, FloatStorageIsRepaired) {
+  const test::Mesh m = needleGrid();
+  Options o;
+  o.fit_unit_square = true;
+  o.storage = UVStorage::Float;
+  const Result r = parameterize(m.V, m.F, o);
+  EXPECT_EQ(r.report.storage_degenerate_faces, 2);
+  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, asFloat), 0);
+}
+
+TEST(Storage, UnitSquareFitSpansZeroToOne) {
+  const test::Mesh m = test::grid(6, 2, 1, [](double x, double y) { return 0.2 * x * y; });
+  Options o;
+  o.fit_unit_square = true;
+  o.storage = UVStorage::FloatAndSixDecimals;
+  const Result r = parameterize(m.V, m.F, o);
+  const double low = std::min(r.uv.col(0).minCoeff(), r.uv.col(1).minCoeff());
+  const double high = std::max(r.uv.col(0).maxCoeff(), r.uv.col(1).maxCoeff());
+  EXPECT_NEAR(low, 0, 1e-6);
+  EXPECT_NEAR(high, 1, 1e-6);
+  EXPECT_EQ(r.report.storage_degenerate_faces, 0);
+}
+
+// docs/method.md §4: the product default refines and stops on measured progress; without a time
+// budget the result is the same on every machine.
+TEST(Refinement, DefaultsRefineAndStopOnProgress) {
+  const test::Mesh m = test::grid(12, 1, 1, [](double x, double y) { return 0.6 * x * x * y; });
+  Options o = productDefaults();
+  EXPECT_EQ(o.stretch_iterations, kDefaultStretchIterations);
+  EXPECT_GT(o.refine_time_factor, 0);
+  o.refine_time_factor = 0;
+  const Result a = parameterize(m.V, m.F, o), b = parameterize(m.V, m.F, o);
+  EXPECT_LT(a.report.l2_stretch, a.report.l2_stretch_linear);
+  EXPECT_TRUE(a.report.refinement_stop == "converged" || a.report.refinement_stop == "iterations")
+      << a.report.refinement_stop;
+  EXPECT_TRUE(a.uv.isApprox(b.uv, 0)) << "not deterministic without a time budget";
+  Options linear;
+  EXPECT_EQ(parameterize(m.V, m.F, linear).report.refinement_stop, "not run");
+}
+
+TEST(Refinement, ZeroMinGainRunsEveryIteration) {
+  const test::Mesh m = test::grid(10, 1, 1, [](double x, double y) { return 0.5 * x * y; });
+  Options o;
+  o.stretch_iterations = 4;
+  o.free_boundary = false;
+  o.refine_min_gain = 0;
+  const Result r = parameterize(m.V, m.F, o);
+  EXPECT_EQ(r.report.stretch_iterations_run, 4);
+  EXPECT_EQ(r.report.refinement_stop, "iterations");
+}
+
+}  // namespace
+}  // namespace sdp
