@@ -248,6 +248,7 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
       if (progress && !progress("free boundary", 95 + 2 * step / steps))
         throw ParameterizationError("cancelled by the user");
       if (budget.expired()) break;
+      const auto step_start = RefineBudget::Clock::now();
       // Local step: the rotation closest to each face's current map (2x2 polar decomposition
       // in closed form). Global step: the positions that best fit all the rotated faces.
       rhs.setZero();
@@ -301,6 +302,8 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
           best = current;
         }
       }
+      budget.step_seconds =
+          std::chrono::duration<double>(RefineBudget::Clock::now() - step_start).count();
       if (steps_without_gain >= 2) break;
       if (!taken) {
         counts.stopped = true;

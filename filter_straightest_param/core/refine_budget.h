@@ -17,8 +17,14 @@ struct RefineBudget {
   double min_gain = 0;  // relative L2 decrease a step must reach for the loop to go on; 0: none
   mutable RefineStop stop = RefineStop::NotRun;
 
+  // Seconds the next step is expected to take (the last one's, measured by the loop): a step
+  // that would end past the deadline is not started.
+  mutable double step_seconds = 0;
+
   bool expired() const {
-    if (Clock::now() < deadline) return false;
+    const auto step = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(step_seconds));
+    if (deadline == Clock::time_point::max() || Clock::now() + step < deadline) return false;
     stop = RefineStop::TimeBudget;
     return true;
   }

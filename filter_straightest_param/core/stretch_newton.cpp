@@ -157,6 +157,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
       if (progress && !progress("free boundary", 97 + 2 * it / steps))
         throw ParameterizationError("cancelled by the user");
       if (budget.expired()) break;
+      const auto step_start = RefineBudget::Clock::now();
       // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature and
       // the cross terms dQ dS^T are left out, as the energy is scale-invariant and each step is
       // rescaled: a positive definite approximation, so the step still descends).
@@ -234,6 +235,9 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         }
       }
       for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
+      // The factorization is most of a step's time.
+      budget.step_seconds =
+          std::chrono::duration<double>(RefineBudget::Clock::now() - step_start).count();
 
       // Capped short of the first collapse, then halved until the energy drops enough and
       // the map passes the one-to-one checks.

@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""What a user gets by default, measured with the installed command line (build/bin/straightest_param):
+the default (refined) map against the paper's linear map (--stretch-iterations 0) on every disk mesh,
+and on face.off / lilium.off subdivided up to 1.65M vertices with --scaling. Flipped faces are
+recomputed from the written files (OBJ, and float PLY), not taken from the report.
+
+    python3 bench/defaults.py [--build build] [--shared ../shared] [--scaling] [--readme README.md]
+
+Writes bench/results/defaults.md and, with --readme, the README's bench:defaults block.
+"""
+import argparse
+import json
+import pathlib
+import struct
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from run import replace_block  # noqa: E402
+
+
+def obj_corners(path):
+    vt, faces = [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("vt "):
+                vt.append(tuple(float(x) for x in line.split()[1:3]))
+            elif line.startswith("f "):
+                faces.append([vt[int(c.split("/")[1]) - 1] for c in line.split()[1:4]])
+    return faces
+
+
+def ply_corners(path):
+    """The CLI's binary PLY: scalar vertex properties; per face a uchar-count int list and a
+    uchar-count float texcoord list (6 floats)."""
+    sizes = {"double": 8, "float": 4, "int": 4, "uchar": 1}
+    data = open(path, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    vertices = int(next(h for h in header if h.startswith("element vertex")).split()[2])
+    faces = int(next(h for h in header if h.startswith("element face")).split()[2])
+    vertex_bytes = 0
+    in_vertex = False
+    for h in header:
+        if h.startswith("element"):
+            in_vertex = h.startswith("element vertex")
+        elif h.startswith("property") and in_vertex:
+            vertex_bytes += sizes[h.split()[1]]
+    at = end + vertices * vertex_bytes
+    out = []
+    for _ in range(faces):
+        n = data[at]
+        at += 1 + 4 * n
+        m = data[at]
+        uv = struct.unpack_from(f"<{m}f", data, at + 1)
+        at += 1 + 4 * m
+        out.append([(uv[2 * k], uv[2 * k + 1]) for k in range(3)])
+    return out
+
+
+def flipped(corners):
+    bad = 0
+    for (s1, t1), (s2, t2), (s3, t3) in corners:
+        if (s2 - s1) * (t3 - t1) - (s3 - s1) * (t2 - t1) <= 0:
+            bad += 1
+    return bad
+
+
+def run(cli, mesh, folder, extra, fmt):
+    out = pathlib.Path(folder) / f"out.{fmt}"
+    report = pathlib.Path(folder) / "report.json"
+    done = subprocess.run([cli, mesh, out, "--quiet", "--report", report] + extra,
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        return {"error": done.stderr.strip()}
+    r = json.loads(report.read_text())
+    r["file_flips"] = flipped(obj_corners(out) if fmt == "obj" else ply_corners(out))
+    return r
+
+
+def measure(cli, mesh, fmt):
+    with tempfile.TemporaryDirectory() as folder:
+        linear = run(cli, mesh, folder, ["--stretch-iterations", "0"], fmt)
+        default = run(cli, mesh, folder, [], fmt)
+    return linear, default
+
+
+def row(name, linear, default):
+    if "error" in linear or "error" in default:
+        return f"| {name} | refused: {linear.get('error') or default.get('error')} |"
+    ratio = default["seconds"] / linear["seconds"] if linear["seconds"] > 0 else float("nan")
+    return (f"| {name} | {default['vertices']:,} | {linear['l2_stretch']:.4f} | "
+            f"{default['l2_stretch']:.4f} | {linear['seconds']:.2f} | {default['seconds']:.2f} | "
+            f"{ratio:.1f}× | {default['refinement_stop']} | "
+            f"{default['storage']['degenerate_faces']} / {default['storage']['moved_vertices']} | "
+            f"{linear['file_flips']} / {default['file_flips']} |")
+
+
+HEADER = ("| mesh | vertices | L2, linear (K = 0) | L2, default | s, linear | s, default | "
+          "default / linear time | refinement stopped by | faces repaired as stored / vertices "
+          "moved | flipped in the file, linear / default |\n|---|---|---|---|---|---|---|---|---|---|")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    root = pathlib.Path(__file__).resolve().parent.parent
+    parser.add_argument("--build", default=root / "build", type=pathlib.Path)
+    parser.add_argument("--shared", default=root.parent / "shared", type=pathlib.Path)
+    parser.add_argument("--scaling", action="store_true")
+    parser.add_argument("--cache", default=pathlib.Path.home() / ".cache/straightest-param/bench",
+                        type=pathlib.Path)
+    parser.add_argument("--readme", type=pathlib.Path)
+    args = parser.parse_args()
+    cli = args.build / "bin" / "straightest_param"
+
+    meshes = sorted((args.shared / "meshes" / "disk").glob("*.off"))
+    if not meshes:
+        meshes = sorted((root / "resources" / "meshes" / "disk").glob("*.off"))
+    lines = ["Each front end's default, OBJ output (full precision) from the command line:", "",
+             HEADER]
+    for mesh in meshes:
+        lines.append(row(mesh.stem, *measure(cli, mesh, "obj")))
+        print(lines[-1], flush=True)
+    if args.scaling:
+        args.cache.mkdir(parents=True, exist_ok=True)
+        lines += ["", "Subdivided scans, float PLY output (the core repairs what float rounding "
+                  "would collapse):", "", HEADER]
+        for base, k in (("face", 1), ("face", 2), ("lilium", 4), ("face", 3)):
+            mesh = args.cache / f"{base}_s{k}.off"
+            if not mesh.exists():
+                subprocess.run([args.build / "bin" / "sdp_bench",
+                                args.shared / "meshes" / "disk" / f"{base}.off", str(k),
+                                "--write-off", mesh], check=True, capture_output=True)
+            lines.append(row(f"{base} s{k}", *measure(cli, mesh, "ply")))
+            print(lines[-1], flush=True)
+    body = "\n".join(lines)
+    out = root / "bench" / "results" / "defaults.md"
+    out.write_text(body + "\n")
+    if args.readme:
+        args.readme.write_text(replace_block(args.readme.read_text(), "defaults", body))
+
+
+if __name__ == "__main__":
+    main()
