@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """What a user gets by default, measured with the installed command line (build/bin/straightest_param):
 the default (refined) map against the paper's linear map (--stretch-iterations 0) on every disk mesh,
-and on face.off / lilium.off subdivided up to 1.65M vertices with --scaling. Flipped faces are
+beside libigl's SLIM (the best bijective peer of the bench), and on face.off / lilium.off
+subdivided up to 1.65M vertices with --scaling. Flipped faces are
 recomputed from the written files (OBJ, and float PLY), not taken from the report.
 
     python3 bench/defaults.py [--build build] [--shared ../shared] [--scaling] [--readme README.md]
@@ -86,20 +87,36 @@ def measure(cli, mesh, fmt):
     return linear, default
 
 
-def row(name, linear, default):
+def slim(build, mesh, iterations=20):
+    """libigl SLIM from Tutte (bench/slim_peer.py), in its own process."""
+    done = subprocess.run([sys.executable, pathlib.Path(__file__).resolve().parent / "slim_peer.py",
+                           mesh, str(iterations), build / "bin" / "sdp_score"],
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        return None
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def row(name, linear, default, peer=None):
     if "error" in linear or "error" in default:
         return f"| {name} | refused: {linear.get('error') or default.get('error')} |"
     ratio = default["seconds"] / linear["seconds"] if linear["seconds"] > 0 else float("nan")
+    if peer is None:
+        slim_cells = "– | – | –"
+    else:
+        slim_cells = (f"{peer['l2_stretch']:.4f} ({peer['flipped_faces']} flipped) | "
+                      f"{peer['seconds']:.2f} | {default['l2_stretch'] / peer['l2_stretch']:.3f}")
     return (f"| {name} | {default['vertices']:,} | {linear['l2_stretch']:.4f} | "
-            f"{default['l2_stretch']:.4f} | {linear['seconds']:.2f} | {default['seconds']:.2f} | "
-            f"{ratio:.1f}× | {default['refinement_stop']} | "
+            f"{default['l2_stretch']:.4f} | {slim_cells} | {linear['seconds']:.2f} | "
+            f"{default['seconds']:.2f} | {ratio:.1f}× | {default['refinement_stop']} | "
             f"{default['storage']['degenerate_faces']} / {default['storage']['moved_vertices']} | "
             f"{linear['file_flips']} / {default['file_flips']} |")
 
 
-HEADER = ("| mesh | vertices | L2, linear (K = 0) | L2, default | s, linear | s, default | "
-          "default / linear time | refinement stopped by | faces repaired as stored / vertices "
-          "moved | flipped in the file, linear / default |\n|---|---|---|---|---|---|---|---|---|---|")
+HEADER = ("| mesh | vertices | L2, linear (K = 0) | L2, default | L2, SLIM 20 it. from Tutte | "
+          "s, SLIM | default / SLIM L2 | s, linear | s, default | default / linear time | "
+          "refinement stopped by | faces repaired as stored / vertices moved | flipped in the "
+          "file, linear / default |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def main():
@@ -120,7 +137,7 @@ def main():
     lines = ["Each front end's default, OBJ output (full precision) from the command line:", "",
              HEADER]
     for mesh in meshes:
-        lines.append(row(mesh.stem, *measure(cli, mesh, "obj")))
+        lines.append(row(mesh.stem, *measure(cli, mesh, "obj"), slim(args.build, mesh)))
         print(lines[-1], flush=True)
     if args.scaling:
         args.cache.mkdir(parents=True, exist_ok=True)

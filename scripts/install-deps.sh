@@ -9,7 +9,7 @@
 #   - Debian roots with the MeshLab 2022.02 (trixie) and 2025.07 (sid) GUIs that the plugins for
 #     those versions are linked against and tested in (scripts/make-meshlab-root.sh; needs root);
 #   - .venv/ with pymeshlab 2025.07 (the MeshLab the 2025.07 plugin runs in), pytest, numpy and
-#     auditwheel (it reports the pip package's platform tag).
+#     auditwheel (it reports the pip package's platform tag), libigl (SLIM, a bench peer).
 #
 #   SDP_SKIP_APT=1     skip the Debian packages (e.g. when not root and they are already there)
 #   SDP_SKIP_ROOTS=1   skip the trixie/sid roots (their plugins then link unchecked, their tests skip)
@@ -29,7 +29,7 @@ debian_packages=(
   xvfb xauth xdotool x11-utils imagemagick
   debootstrap dpkg-dev
 )
-python_requirements=("pymeshlab==2025.7.post1" "pytest" "numpy" "auditwheel==6.8.2")
+python_requirements=("pymeshlab==2025.7.post1" "pytest" "numpy" "auditwheel==6.8.2" "libigl==2.6.3")
 
 missing_packages() {
   local pkg
