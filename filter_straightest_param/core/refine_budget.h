@@ -22,8 +22,8 @@ struct RefineBudget {
   mutable double step_seconds = 0;
 
   bool expired() const {
-    const auto step = std::chrono::duration_cast<Clock::duration>(
-        std::chrono::duration<double>(step_seconds));
+    const auto step =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(step_seconds));
     if (deadline == Clock::time_point::max() || Clock::now() + step < deadline) return false;
     stop = RefineStop::TimeBudget;
     return true;

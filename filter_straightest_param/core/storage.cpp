@@ -191,10 +191,11 @@ StorageCounts roundForStorage(const Patch& patch, LocalUVs& uv, UVStorage storag
   counts.moved_vertices = static_cast<int>(std::count(moved.begin(), moved.end(), 1));
   const char* name = uvStorageName(storage);
   if (!bad.empty())
-    throw ParameterizationError(
-        "no one-to-one map as stored (" + std::string(name) + " texture coordinates): " +
-        std::to_string(bad.size()) + " faces stay flipped or degenerate after moving " +
-        std::to_string(counts.moved_vertices) + " vertices (the map compresses them too much)");
+    throw ParameterizationError("no one-to-one map as stored (" + std::string(name) +
+                                " texture coordinates): " + std::to_string(bad.size()) +
+                                " faces stay flipped or degenerate after moving " +
+                                std::to_string(counts.moved_vertices) +
+                                " vertices (the map compresses them too much)");
   if (!boundaryIsSimple(patch, uv))
     throw ParameterizationError("no one-to-one map as stored (" + std::string(name) +
                                 " texture coordinates): the rounded boundary touches itself");
