@@ -200,6 +200,7 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
+  if (budget.expired()) return uv;  // before the setup, which costs about a step itself
   try {
     // Start at the 3D size (the rigid targets are 3D edge vectors).
     double area2d = 0, area3d = 0;

@@ -51,6 +51,15 @@ class StageClock {
   Clock::time_point start_;
 };
 
+constexpr double kFewRefinementSteps = 6;
+constexpr double kFastStretchExponent = 1.0;
+
+double stageSeconds(const Report& report, const std::string& stage) {
+  for (const auto& entry : report.stage_seconds)
+    if (entry.first == stage) return entry.second;
+  return 0;
+}
+
 // Validates a user-given source vertex; returns its local index (or -1 when none was given).
 int userSource(const Patch& patch, int input_vertices, int source, bool needs_interior) {
   if (source < 0) return -1;
@@ -303,6 +312,15 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
         stop = budget.stop == RefineStop::NotRun ? RefineStop::Iterations : budget.stop;
     };
 
+    // eta 0.5 reaches the lowest stretch in 5-10 steps, eta 1 gets most of the way in 2-3
+    // (face.off, fixed boundary: L2 1.41 after 2 steps against 1.78). When the budget affords
+    // fewer than 6 steps (each costs about the linear solve), the faster one is used.
+    double eta = options.stretch_exponent;
+    const double solve_seconds = stageSeconds(report, "solve");
+    if (std::isfinite(budget_seconds) && solve_seconds > 0 &&
+        budget_seconds < kFewRefinementSteps * solve_seconds)
+      eta = std::max(eta, kFastStretchExponent);
+
     clock.begin("refine", 85);
     const RefineBudget reweighting = budgetUntil(1.0);
     std::vector<double> refined = weights;
@@ -313,7 +331,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
         throw ParameterizationError("cancelled by the user");
       if (it > 1 && reweighting.expired()) break;
       const auto iteration_start = Clock::now();
-      reweightByStretch(patch, current.vertex_l2, options.stretch_exponent, refined);
+      reweightByStretch(patch, current.vertex_l2, eta, refined);
       LocalUVs candidate;
       do {
         candidate = solver.solve(refined, boundary);

@@ -115,6 +115,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     counts.skipped = true;
     return uv;
   }
+  if (budget.expired()) return uv;
   LocalUVs best;  // filled inside the try: its allocation may fail too
   try {
     best = uv;
