@@ -134,6 +134,7 @@ inline std::vector<std::string> reportLines(const FilterRun& run, const sdp::UVM
                       formatReportValue("%.4f", r.l2_stretch_fixed_boundary));
   }
   for (const std::string& note : run.notes) lines.push_back(note);
+  for (const std::string& note : r.notes) lines.push_back(note);
   for (const std::string& warning : r.warnings) lines.push_back("warning: " + warning);
   return lines;
 }

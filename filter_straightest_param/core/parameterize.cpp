@@ -412,11 +412,12 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
   report.storage = uvStorageName(options.storage);
   report.storage_degenerate_faces = storage.degenerate_faces;
   report.storage_moved_vertices = storage.moved_vertices;
+  // Repaired, so not a warning: the stored map is one-to-one.
   if (storage.degenerate_faces > 0)
-    report.warnings.push_back(
-        std::to_string(storage.degenerate_faces) + " faces would degenerate in " + report.storage +
-        " texture coordinates; moved " + std::to_string(storage.moved_vertices) +
-        " vertices to keep the map one-to-one as stored");
+    report.notes.push_back("stored one-to-one: " + std::to_string(storage.degenerate_faces) +
+                           " faces would have collapsed when rounded to " + report.storage +
+                           " texture coordinates; " + std::to_string(storage.moved_vertices) +
+                           " vertices moved");
   clock.end();
   report.l2_stretch = metrics.l2;
   report.linf_stretch = metrics.linf;

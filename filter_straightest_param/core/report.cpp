@@ -81,6 +81,9 @@ std::string Report::toJson() const {
   o << "},\n";
   o << "  \"warnings\": [";
   for (size_t i = 0; i < warnings.size(); ++i) o << (i ? ", " : "") << jsonString(warnings[i]);
+  o << "],\n";
+  o << "  \"notes\": [";
+  for (size_t i = 0; i < notes.size(); ++i) o << (i ? ", " : "") << jsonString(notes[i]);
   o << "]\n}\n";
   return o.str();
 }

@@ -41,6 +41,7 @@ struct Report {
   double seconds = 0;  // wall time of the parameterization (no file I/O)
   std::vector<std::pair<std::string, double>> stage_seconds;  // in run order
   std::vector<std::string> warnings;                          // one line each, for logs
+  std::vector<std::string> notes;  // what was done that needs no action (e.g. a storage repair)
 
   // JSON object with the docs/method.md §6 keys (pymeshlab dict keys + vertices, faces, weights,
   // boundary, stage_seconds) and the breakdown above.

@@ -66,6 +66,12 @@ TEST(Storage, MeshLabStorageIsRepairedAndExact) {
   EXPECT_EQ(r.report.storage_degenerate_faces, 2);
   EXPECT_GT(r.report.storage_moved_vertices, 0);
   EXPECT_EQ(r.report.flipped_faces, 0);
+  // Repaired, so a note, not a warning.
+  ASSERT_EQ(r.report.notes.size(), 1u);
+  EXPECT_EQ(r.report.notes[0].rfind("stored one-to-one: 2 faces would have collapsed", 0), 0u)
+      << r.report.notes[0];
+  for (const std::string& w : r.report.warnings)
+    EXPECT_EQ(w.find("collapse"), std::string::npos) << w;
   for (Eigen::Index i = 0; i < r.uv.rows(); ++i)
     for (int k = 0; k < 2; ++k) {
       EXPECT_EQ(asFloat(r.uv(i, k)), r.uv(i, k)) << "not a float: vertex " << i;
