@@ -1,5 +1,7 @@
 #include "boundary.h"
 
+#include "free_boundary.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -437,6 +439,87 @@ Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& sp
   return result;
 }
 
+namespace {
+
+// An ear apex b (a boundary vertex of one face, a-b-c) has no interior neighbour: the linear
+// solve never sees it, so it need not lie on the convex polygon. The convex polygon is made over
+// the other boundary vertices (the ear's chord a-c becomes one of its sides, so the rest of the
+// map stays one-to-one by Tutte/Floater) and b goes across the chord, outside, with the ear's
+// own 3D shape. Ears that would overlap one another are flattened towards their chords, halving
+// their height; if that does not help, no ear is unfolded.
+Polygon convexWithUnfoldedEars(const Patch& patch, const Polygon& polar, MeasuredCounts& counts) {
+  const auto& loop = patch.boundary_loop;
+  const int n = static_cast<int>(loop.size());
+  const std::vector<double> spacing = boundarySpacing(patch);
+  std::vector<char> apex(n, 0);
+  int apexes = 0;
+  for (int k = 0; k < n; ++k) {
+    const int v = loop[k];
+    const bool ear = patch.ringSize(v) == 2 && patch.ring_face[patch.ring_begin[v]] >= 0 &&
+                     patch.ring_face[patch.ring_begin[v]] < patch.real_face_count;
+    // Never two neighbours (a chord must join kept vertices), and keep at least 3.
+    if (ear && !apex[(k + n - 1) % n] && !(k == n - 1 && apex[0]) && n - apexes > 3) {
+      apex[k] = 1;
+      ++apexes;
+    }
+  }
+  if (apexes == 0) return makeStrictlyConvex(polar, spacing, dividingEdges(patch));
+
+  std::vector<int> kept_of(n, -1), kept;
+  for (int k = 0; k < n; ++k)
+    if (!apex[k]) {
+      kept_of[k] = static_cast<int>(kept.size());
+      kept.push_back(k);
+    }
+  const int m = static_cast<int>(kept.size());
+  Polygon sub(m);
+  std::vector<double> sub_spacing(m, 0);
+  for (int i = 0; i < m; ++i) {
+    sub[i] = polar[kept[i]];
+    for (int k = kept[i]; k != kept[(i + 1) % m]; k = (k + 1) % n) sub_spacing[i] += spacing[k];
+  }
+  std::vector<std::pair<int, int>> sub_dividing;
+  for (const auto& [a, b] : dividingEdges(patch)) {
+    const int i = kept_of[a], j = kept_of[b];
+    if (i < 0 || j < 0) continue;
+    const bool chord = (j - i == 1) || (i == 0 && j == m - 1);  // an ear's chord: now a side
+    if (!chord) sub_dividing.emplace_back(std::min(i, j), std::max(i, j));
+  }
+  const Polygon convex = makeStrictlyConvex(sub, sub_spacing, sub_dividing);
+  if (convex.empty()) return {};
+
+  Polygon full(n);
+  for (int i = 0; i < m; ++i) full[kept[i]] = convex[i];
+  std::vector<BorderEdge> edges(n);
+  for (int k = 0; k < n; ++k) edges[k] = {k, (k + 1) % n};
+  for (double height = 1; height > 1.0 / 64; height /= 2) {
+    for (int k = 0; k < n; ++k) {
+      if (!apex[k]) continue;
+      const int a = (k + n - 1) % n, c = (k + 1) % n;
+      const Eigen::Vector3d A = patch.position[loop[a]], B = patch.position[loop[k]],
+                            C = patch.position[loop[c]];
+      const Eigen::Vector3d chord3 = C - A;
+      const double length3 = chord3.norm();
+      const Eigen::Vector2d chord2 = full[c] - full[a];
+      const double length2 = chord2.norm();
+      if (!(length3 > 0) || !(length2 > 0))
+        return makeStrictlyConvex(polar, spacing, dividingEdges(patch));
+      const double along = (B - A).dot(chord3) / (length3 * length3);
+      const double across = (B - A).cross(chord3).norm() / length3 * (length2 / length3);
+      // Outside a counter-clockwise polygon: to the right of a -> c.
+      const Eigen::Vector2d outward(chord2.y() / length2, -chord2.x() / length2);
+      full[k] = full[a] + along * chord2 + height * across * outward;
+    }
+    if (edgesAreSimple(edges, full)) {
+      counts.ears_unfolded = apexes;
+      return full;
+    }
+  }
+  return makeStrictlyConvex(polar, spacing, dividingEdges(patch));
+}
+
+}  // namespace
+
 Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts) {
   const auto& loop = patch.boundary_loop;
   const int n = static_cast<int>(loop.size());
@@ -476,7 +559,7 @@ Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts)
     polar[k] = radius[k] * Eigen::Vector2d(std::cos(phi), std::sin(phi));
     phi += gap[k];
   }
-  Polygon convex = makeStrictlyConvex(polar, boundarySpacing(patch), dividingEdges(patch));
+  Polygon convex = convexWithUnfoldedEars(patch, polar, counts);
   if (convex.empty()) return {};
   double area3d = 0;
   for (int f = 0; f < patch.real_face_count; ++f) {

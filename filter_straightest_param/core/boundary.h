@@ -30,6 +30,9 @@ int chooseSourceVertex(const Patch& patch, SourceRule rule);
 struct MeasuredCounts {
   int walk_failures = 0;  // plane walks that left the patch away from their boundary vertex
   int walk_detours = 0;   // walks much longer than the edge-graph distance (sanity rule)
+  // Ear apexes (boundary vertices of a single face) placed across their chord with the ear's
+  // own shape instead of on the convex polygon, which would crush the ear flat.
+  int ears_unfolded = 0;
 };
 
 // Straightest distance from S to boundary vertex b: the length of the intersection of the mesh

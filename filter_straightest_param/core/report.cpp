@@ -71,6 +71,7 @@ std::string Report::toJson() const {
     << ", \"boundary_fallbacks\": " << boundary_fallbacks << "},\n";
   o << "  \"unreferenced_vertices\": " << unreferenced_vertices << ",\n";
   o << "  \"holes_filled\": " << holes_filled << ",\n";
+  o << "  \"ears_unfolded\": " << ears_unfolded << ",\n";
   o << "  \"storage\": {\"precision\": " << jsonString(storage)
     << ", \"degenerate_faces\": " << storage_degenerate_faces
     << ", \"moved_vertices\": " << storage_moved_vertices << "},\n";

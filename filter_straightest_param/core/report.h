@@ -30,6 +30,7 @@ struct Report {
   int straightest_to_ltd = 0;  // neighbours whose cutting plane crossed no far-side edge
   int degenerate_rings = 0;    // interior vertices with a degenerate 1-ring -> uniform weights
   int walk_fallbacks = 0;      // boundary vertices whose plane walk failed -> geodesic distance
+  int ears_unfolded = 0;  // measured boundary: ear apexes placed with their own shape (boundary.h)
   int boundary_fallbacks = 0;  // whole-boundary fallbacks (e.g. measured -> circle)
   int unreferenced_vertices = 0;
   int holes_filled = 0;  // inner boundary loops filled virtually for the solve

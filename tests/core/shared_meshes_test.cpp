@@ -98,12 +98,38 @@ TEST(Holes, BeetleAndHalfTunnelGiveOneToOneMaps) {
   const io::MeshData beetle = io::readMesh(beetle_path);
   const Result r = parameterize(beetle.V, beetle.F);
   EXPECT_EQ(r.report.holes_filled, 10);
-  // Its measured polygon straightens stretches where faces have all corners on the boundary:
-  // judged before the solve and replaced by the circle, with the reason in the warnings.
-  EXPECT_EQ(r.report.boundary_used, "circle");
-  ASSERT_FALSE(r.report.warnings.empty());
-  EXPECT_NE(r.report.warnings[0].find("crushes"), std::string::npos);
-  EXPECT_LT(r.report.l2_stretch, 2.0);
+  // Its 10 boundary ears would be crushed flat on the convex polygon: they are unfolded across
+  // their chords instead, so the measured boundary holds (no whole-boundary fallback) and
+  // stretches less than the circle.
+  EXPECT_EQ(r.report.boundary_used, "measured");
+  EXPECT_EQ(r.report.boundary_fallbacks, 0);
+  EXPECT_EQ(r.report.ears_unfolded, 10);
+  EXPECT_EQ(test::countNonPositiveFaces(r, beetle.F), 0);
+  Options circle;
+  circle.boundary = BoundaryShape::Circle;
+  EXPECT_LT(r.report.l2_stretch, parameterize(beetle.V, beetle.F, circle).report.l2_stretch);
+}
+
+// Strongly curved patches seen from S: most straightest walks miss their boundary vertex. Each
+// miss falls back to the edge-graph distance for that vertex, counted; the measured polygon holds
+// and the map stays one-to-one.
+void expectMeasuredBoundaryHolds(const std::string& path) {
+  const io::MeshData mesh = io::readMesh(path);
+  const Result r = parameterize(mesh.V, mesh.F);
+  EXPECT_EQ(r.report.boundary_used, "measured") << path;
+  EXPECT_EQ(r.report.boundary_fallbacks, 0) << path;
+  EXPECT_GT(r.report.walk_fallbacks, 0) << path;
+  EXPECT_EQ(test::countNonPositiveFaces(r, mesh.F), 0) << path;
+}
+
+TEST(MeasuredBoundary, HoldsOnCamelB) {
+  SDP_MESH_OR_SKIP(path, "disk/camel_b.off");
+  expectMeasuredBoundaryHolds(path);
+}
+
+TEST(MeasuredBoundary, HoldsOnCamelhead) {
+  SDP_MESH_OR_SKIP(path, "disk/camelhead.off");
+  expectMeasuredBoundaryHolds(path);
 }
 
 // The paper's Table 1 ordering (circle boundary): ours <= LTD <= Floater on Nefertiti.
