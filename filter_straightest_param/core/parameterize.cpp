@@ -36,15 +36,24 @@ class StageClock {
   }
   void end() { add(stage_, std::chrono::duration<double>(Clock::now() - start_).count()); }
   void add(const std::string& stage, double seconds) {
-    for (auto& entry : report_.stage_seconds)
-      if (entry.first == stage) {
-        entry.second += seconds;
-        return;
-      }
-    report_.stage_seconds.emplace_back(stage, seconds);
+    if (double* total = find(stage))
+      *total += seconds;
+    else
+      report_.stage_seconds.emplace_back(stage, seconds);
+  }
+  // Seconds spent so far in `stage` (0 if it has not run).
+  double seconds(const std::string& stage) {
+    const double* total = find(stage);
+    return total ? *total : 0;
   }
 
  private:
+  double* find(const std::string& stage) {
+    for (auto& entry : report_.stage_seconds)
+      if (entry.first == stage) return &entry.second;
+    return nullptr;
+  }
+
   Report& report_;
   const ProgressCallback& progress_;
   std::string stage_;
@@ -53,12 +62,6 @@ class StageClock {
 
 constexpr double kFewRefinementSteps = 6;
 constexpr double kFastStretchExponent = 1.0;
-
-double stageSeconds(const Report& report, const std::string& stage) {
-  for (const auto& entry : report.stage_seconds)
-    if (entry.first == stage) return entry.second;
-  return 0;
-}
 
 // Validates a user-given source vertex; returns its local index (or -1 when none was given).
 int userSource(const Patch& patch, int input_vertices, int source, bool needs_interior) {
@@ -93,25 +96,11 @@ void reweightByStretch(const Patch& patch, const std::vector<double>& vertex_l2,
 
 }  // namespace
 
-void fitUnitSquare(UVs& uv, const Triangles& F) {
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
-  Eigen::Vector2d high = Eigen::Vector2d::Constant(std::numeric_limits<double>::lowest());
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int c = 0; c < 3; ++c) {
-      low = low.cwiseMin(uv.row(F(f, c)).transpose());
-      high = high.cwiseMax(uv.row(F(f, c)).transpose());
-    }
-  const double extent = (high - low).maxCoeff();
-  if (!(extent > 0) || !std::isfinite(extent))
-    throw ParameterizationError("the parameterization has no extent");
-  const Eigen::RowVector2d centre = (0.5 * (low + high)).transpose();
-  uv = ((uv.rowwise() - centre) / extent).array() + 0.5;
-}
-
 namespace {
 
-// fitUnitSquare on the patch's own UVs: the real vertices span [0,1] on the longer side.
-void fitUnitSquareLocal(const Patch& patch, LocalUVs& uv) {
+// Scales and moves the UVs uniformly (aspect kept) so the real vertices span [0,1] on the
+// longer side, centred: a texture then covers the patch once. Stretch measures do not change.
+void fitUnitSquare(const Patch& patch, LocalUVs& uv) {
   Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
   Eigen::Vector2d high = -low;
   for (int v = 0; v < patch.real_vertex_count; ++v) {
@@ -284,22 +273,20 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
   report.l2_stretch_linear = metrics.l2;
 
   if (options.stretch_iterations > 0) {
-    // The time budget is split with absolute deadlines: the reweighting gets half, the ARAP
-    // steps a third, the Newton steps the rest, each plus what the loops before left unused
-    // (on camel_b the free boundary does nearly all the work, so it must not be starved).
+    // One deadline for the three loops (reweighting, ARAP, Newton); each loop has its own
+    // budget object, which records why it stopped and how long its last step took.
     const auto refine_start = Clock::now();
     double budget_seconds = std::numeric_limits<double>::infinity();
     if (options.refine_time_factor > 0) {
       const double linear = std::chrono::duration<double>(refine_start - run_start).count();
       budget_seconds = std::max(options.refine_min_seconds, options.refine_time_factor * linear);
     }
-    auto budgetUntil = [&](double fraction) {
+    auto newBudget = [&] {
       RefineBudget budget;
       budget.min_gain = options.refine_min_gain;
       if (std::isfinite(budget_seconds))
-        budget.deadline =
-            refine_start + std::chrono::duration_cast<Clock::duration>(
-                               std::chrono::duration<double>(fraction * budget_seconds));
+        budget.deadline = refine_start + std::chrono::duration_cast<Clock::duration>(
+                                             std::chrono::duration<double>(budget_seconds));
       return budget;
     };
     RefineStop stop = RefineStop::Iterations;
@@ -312,13 +299,13 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
     // (face.off, fixed boundary: L2 1.41 after 2 steps against 1.78). When the budget affords
     // fewer than 6 steps (each costs about the linear solve), the faster one is used.
     double eta = options.stretch_exponent;
-    const double solve_seconds = stageSeconds(report, "solve");
+    const double solve_seconds = clock.seconds("solve");
     if (std::isfinite(budget_seconds) && solve_seconds > 0 &&
         budget_seconds < kFewRefinementSteps * solve_seconds)
       eta = std::max(eta, kFastStretchExponent);
 
     clock.begin("refine", 85);
-    const RefineBudget reweighting = budgetUntil(1.0);
+    const RefineBudget reweighting = newBudget();
     std::vector<double> refined = weights;
     StretchMetrics current = metrics;
     for (int it = 1; it <= options.stretch_iterations; ++it) {
@@ -356,7 +343,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
         throw ParameterizationError("cancelled by the user");
       clock.begin("free_boundary", 95);
       FreeBoundaryCounts counts;
-      const RefineBudget arap = budgetUntil(1.0);
+      const RefineBudget arap = newBudget();
       // The first ARAP step with its setup costs about three reweighting solves (2.5x measured
       // at 1.65M vertices): not started when that would overrun the deadline.
       arap.step_seconds = 3 * reweighting.step_seconds;
@@ -365,7 +352,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
       note(arap);
       // Then Newton steps on the L2 stretch itself: they go on where ARAP's optimum folds.
       StretchNewtonCounts newton;
-      const RefineBudget newton_budget = budgetUntil(1.0);
+      const RefineBudget newton_budget = newBudget();
       uv = minimizeStretchWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, newton,
                                            options.progress, newton_budget);
       note(newton_budget);
@@ -399,7 +386,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
   // degenerate a face (storage.h); the report then describes exactly those UVs.
   clock.begin("storage", 98);
   for (auto& p : uv) p *= patch.unit;
-  if (options.fit_unit_square) fitUnitSquareLocal(patch, uv);
+  if (options.fit_unit_square) fitUnitSquare(patch, uv);
   const StorageCounts storage = roundForStorage(patch, uv, options.storage);
   if (options.fit_unit_square || options.storage != UVStorage::Double) {
     metrics = stretchMetrics(patch, uv);

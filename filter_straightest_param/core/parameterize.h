@@ -31,10 +31,6 @@ struct UVMeasures {
 };
 UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv);
 
-// Scales and moves UVs uniformly (aspect kept) so the faces' corners span [0,1] on the longer
-// side, centred: a texture then covers the patch once. Stretch measures do not change.
-void fitUnitSquare(UVs& uv, const Triangles& F);
-
 // Flattens a disk-shaped patch. Throws ParameterizationError with a one-line reason when the
 // input is not a valid patch, a coordinate is not finite, or no one-to-one map could be made:
 // a returned Result is always one-to-one (report.flipped_faces == 0).
