@@ -15,6 +15,9 @@ std::optional<Enum> parseByName(const std::string& name, const char* const (&nam
 const char* const kWeightNames[] = {"straightest", "ltd", "floater", "mean_value", "uniform"};
 const char* const kBoundaryNames[] = {"measured", "circle", "square"};
 const char* const kSourceRuleNames[] = {"farthest", "centroid"};
+// In enum order (refine_budget.h, options.h).
+const char* const kRefineStopNames[] = {"not run", "iterations", "converged", "time budget"};
+const char* const kStorageNames[] = {"double", "float", "float, 6 decimals"};
 
 }  // namespace
 
@@ -37,29 +40,10 @@ Options productDefaults() {
 }
 
 const char* refineStopName(RefineStop stop) {
-  switch (stop) {
-    case RefineStop::NotRun:
-      return "not run";
-    case RefineStop::Iterations:
-      return "iterations";
-    case RefineStop::Converged:
-      return "converged";
-    case RefineStop::TimeBudget:
-      return "time budget";
-  }
-  return "?";
+  return kRefineStopNames[static_cast<int>(stop)];
 }
-
 const char* uvStorageName(UVStorage storage) {
-  switch (storage) {
-    case UVStorage::Double:
-      return "double";
-    case UVStorage::Float:
-      return "float";
-    case UVStorage::FloatAndSixDecimals:
-      return "float, 6 decimals";
-  }
-  return "?";
+  return kStorageNames[static_cast<int>(storage)];
 }
 
 std::optional<WeightScheme> parseWeightScheme(const std::string& name) {
