@@ -451,6 +451,7 @@ Polygon convexWithUnfoldedEars(const Patch& patch, const Polygon& polar, Measure
   const auto& loop = patch.boundary_loop;
   const int n = static_cast<int>(loop.size());
   const std::vector<double> spacing = boundarySpacing(patch);
+  auto withoutUnfolding = [&] { return makeStrictlyConvex(polar, spacing, dividingEdges(patch)); };
   std::vector<char> apex(n, 0);
   int apexes = 0;
   for (int k = 0; k < n; ++k) {
@@ -463,7 +464,7 @@ Polygon convexWithUnfoldedEars(const Patch& patch, const Polygon& polar, Measure
       ++apexes;
     }
   }
-  if (apexes == 0) return makeStrictlyConvex(polar, spacing, dividingEdges(patch));
+  if (apexes == 0) return withoutUnfolding();
 
   std::vector<int> kept_of(n, -1), kept;
   for (int k = 0; k < n; ++k)
@@ -515,7 +516,7 @@ Polygon convexWithUnfoldedEars(const Patch& patch, const Polygon& polar, Measure
       return full;
     }
   }
-  return makeStrictlyConvex(polar, spacing, dividingEdges(patch));
+  return withoutUnfolding();
 }
 
 }  // namespace
