@@ -30,7 +30,7 @@ MeshModelRun parameterizeMeshModel(MeshModelT& mm, const ParameterList& paramete
   WriteOptions write;
   // Per-vertex UVs only where the mesh already had them, so they do not go stale.
   write.vertex_texcoords = mm.hasDataMask(MeshModelT::MM_VERTTEXCOORD);
-  const auto stored = prepareResult<Mesh>(out.run.input, out.run.result, write);
+  const auto stored = prepareResult<Mesh>(out.run.input, out.run.result);
   // Nothing below runs unless the core succeeded; the texture is written before the mesh
   // changes, so its failure too leaves the mesh as it was.
   out.texture =

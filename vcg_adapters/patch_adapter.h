@@ -167,8 +167,7 @@ struct StoredResult {
 // Computes what applyResult() writes, without touching the mesh. The core's UVs must already be
 // storable: a value the mesh cannot hold exactly would change the map after its final check.
 template <class MeshType>
-StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result,
-                                                  const WriteOptions& = {}) {
+StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result) {
   using TexScalar = TexScalarOf<MeshType>;
   if (result.uv.rows() != static_cast<Eigen::Index>(in.mesh_vertex.size()) ||
       result.face_stretch.size() != in.mesh_face.size()) {

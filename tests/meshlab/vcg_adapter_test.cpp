@@ -97,7 +97,7 @@ TEST(VcgAdapter, RunWritesWedgeUVsQualityAndEnablesComponents) {
 
   adapter::WriteOptions write;
   write.vertex_texcoords = true;
-  const auto stored = adapter::prepareResult<TestMesh>(run.input, run.result, write);
+  const auto stored = adapter::prepareResult<TestMesh>(run.input, run.result);
   EXPECT_EQ(stored.metrics.flipped_faces, 0);
   EXPECT_NEAR(stored.metrics.l2_stretch, run.result.report.l2_stretch, 1e-4);
   adapter::applyResult(m, run.input, stored, write);
