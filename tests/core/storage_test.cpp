@@ -44,11 +44,17 @@ double asFloat(double x) {
   return static_cast<float>(x);
 }
 
-TEST(Storage, NeedleFacesCollapseWhenRoundedNaively) {
-  const test::Mesh m = needleGrid();
+// The needle grid fitted to the unit square and stored as `storage` says.
+Result storedNeedleGrid(const test::Mesh& m, UVStorage storage) {
   Options o;
   o.fit_unit_square = true;
-  const Result r = parameterize(m.V, m.F, o);
+  o.storage = storage;
+  return parameterize(m.V, m.F, o);
+}
+
+TEST(Storage, NeedleFacesCollapseWhenRoundedNaively) {
+  const test::Mesh m = needleGrid();
+  const Result r = storedNeedleGrid(m, UVStorage::Double);
   EXPECT_EQ(nonPositiveFaces(r.uv, m.F, [](double x) { return x; }), 0);
   EXPECT_GT(nonPositiveFaces(r.uv, m.F, asFloat), 0) << "the case no longer needs a repair";
   EXPECT_GT(nonPositiveFaces(r.uv, m.F, asObjText), 0) << "the case no longer needs a repair";
@@ -58,10 +64,7 @@ TEST(Storage, NeedleFacesCollapseWhenRoundedNaively) {
 
 TEST(Storage, MeshLabStorageIsRepairedAndExact) {
   const test::Mesh m = needleGrid();
-  Options o;
-  o.fit_unit_square = true;
-  o.storage = UVStorage::FloatAndSixDecimals;
-  const Result r = parameterize(m.V, m.F, o);
+  const Result r = storedNeedleGrid(m, UVStorage::FloatAndSixDecimals);
   EXPECT_EQ(r.report.storage, "float, 6 decimals");
   EXPECT_EQ(r.report.storage_degenerate_faces, 2);
   EXPECT_GT(r.report.storage_moved_vertices, 0);
@@ -87,10 +90,7 @@ TEST(Storage, MeshLabStorageIsRepairedAndExact) {
 
 TEST(Storage, FloatStorageIsRepaired) {
   const test::Mesh m = needleGrid();
-  Options o;
-  o.fit_unit_square = true;
-  o.storage = UVStorage::Float;
-  const Result r = parameterize(m.V, m.F, o);
+  const Result r = storedNeedleGrid(m, UVStorage::Float);
   EXPECT_EQ(r.report.storage_degenerate_faces, 2);
   EXPECT_EQ(nonPositiveFaces(r.uv, m.F, asFloat), 0);
 }
