@@ -9,7 +9,6 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <new>
 #include <optional>
 #include <stdexcept>
@@ -17,8 +16,9 @@
 #include <system_error>
 #include <vector>
 
-#include "checkerboard.h"
 #include "core/parameterize.h"
+#include "filter_straightest_param/checkerboard.h"
+#include "filter_straightest_param/filter_definition.h"
 #include "mesh_io.h"
 
 #ifndef SDP_VERSION
@@ -33,8 +33,37 @@ constexpr const char* kProgram = "straightest_param";
 constexpr int kExitFailure = 1;
 constexpr int kExitUsage = 2;
 
-constexpr const char* kUsage =
-    R"(usage: straightest_param IN OUT [options]
+// --help: the synopsis, the parameter table's CLI rows, then the CLI's own options.
+std::string wrapped(const std::string& text, size_t indent, size_t width) {
+  std::string out, line;
+  size_t start = 0;
+  const auto flush = [&] {
+    out += line + "\n" + std::string(indent, ' ');
+    line.clear();
+  };
+  while (start < text.size()) {
+    size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(start, end - start);
+    if (!line.empty() && indent + line.size() + 1 + word.size() > width) flush();
+    line += (line.empty() ? "" : " ") + word;
+    start = end + 1;
+  }
+  out += line + "\n";
+  return out;
+}
+
+std::string optionHelp(const std::string& option, const std::string& help) {
+  constexpr size_t kColumn = 26;
+  std::string head = "  " + option;
+  head += head.size() + 1 < kColumn ? std::string(kColumn - head.size(), ' ')
+                                    : "\n" + std::string(kColumn, ' ');
+  return head + wrapped(help, kColumn, 100);
+}
+
+std::string usage() {
+  using sdp::filter::ParameterType;
+  std::string text = R"(usage: straightest_param IN OUT [options]
 
 Flattens a disk-shaped triangle patch to the plane by straightest distances.
 IN is a .off, .obj or .ply mesh (polygons are fan-triangulated). OUT ending in .obj gets
@@ -42,34 +71,29 @@ OBJ + MTL + a checkerboard PNG <stem>_checker.png next to it; .ply gets a binary
 Both carry per-wedge texture coordinates. The report (JSON) is printed to stdout.
 
 options:
-  --weights W             straightest (default), ltd, floater, mean_value, uniform
-  --boundary B            measured (default), circle, square
-  --source N              source vertex index of the measured boundary (default: automatic)
-  --source-rule R         automatic source: farthest (from the boundary, default) or centroid
-                          (nearest the centroid of the boundary vertices)
-  --stretch-iterations K  most stretch-minimizing refinement steps per stage (default 10;
-                          0: the paper's linear map). A stage also ends at a step that lowers
-                          the L2 stretch by less than 0.1%, or when the time budget is used
-  --time-budget F         refinement may take F times the linear map's time, at least 1.5 s
-                          (default 2; 0: no time limit, the same map on every machine)
-  --fixed-boundary        refinement keeps the measured boundary where it is (default: after
-                          the reweighting, K checked steps that let it move too, then on patches
-                          up to 50k vertices K Newton steps on the stretch; circle and square
-                          boundaries always stay)
-  --outer-vertex N        patches with holes: a vertex on the loop to use as the outer
-                          boundary (default: the longest loop; the others are filled virtually)
-  --report FILE.json      also write the report to FILE.json
-  --checkers N            checkerboard squares per side (default 16)
-  --texture-size PX       checkerboard PNG width and height in pixels (default 1024)
-  --natural-scale         write UVs at the solver's scale (measured: area equal to the
-                          mesh's) instead of fitted into [0,1]
-  --quiet                 do not print the report
-  --help                  show this help
-  --version               show the version
-  --                      end of options (for file names starting with '-')
-
-exit status: 0 success, 1 failure (bad mesh, I/O error, ...), 2 bad command line
 )";
+  for (const auto& p : sdp::filter::parameters()) {
+    if (!p.inCli()) continue;
+    std::string values;
+    if (p.type == ParameterType::Enum) {
+      for (size_t i = 0; i < p.choices.size(); ++i)
+        values += (i ? ", " : "") + p.choices[i].cli_name +
+                  (static_cast<int>(i) == p.default_int ? " (default)" : "");
+      values += ". ";
+    } else if (p.type == ParameterType::Int) {
+      values = "Default " + std::to_string(p.default_int) + ". ";
+    }
+    text +=
+        optionHelp(p.cli_flag + (p.cli_value.empty() ? "" : " " + p.cli_value), values + p.help);
+  }
+  text += optionHelp("--report FILE.json", "Also write the report to FILE.json.");
+  text += optionHelp("--quiet", "Do not print the report.");
+  text += optionHelp("--help", "Show this help.");
+  text += optionHelp("--version", "Show the version.");
+  text += optionHelp("--", "End of options (for file names starting with '-').");
+  text += "\nexit status: 0 success, 1 failure (bad mesh, I/O error, ...), 2 bad command line\n";
+  return text;
+}
 
 // A bad command line: exit status 2.
 class UsageError : public std::runtime_error {
@@ -81,11 +105,8 @@ struct Arguments {
   std::string input;
   std::string output;
   std::string report_path;  // empty: no report file
-  sdp::Options options = sdp::productDefaults();
-  int checkers = 16;
-  int texture_size = 1024;
+  sdp::filter::FilterValues values = sdp::filter::defaultValues();
   bool quiet = false;
-  bool natural_scale = false;
 };
 
 std::string lowercaseExtension(const std::string& path) {
@@ -94,31 +115,39 @@ std::string lowercaseExtension(const std::string& path) {
   return ext;
 }
 
-int parseIntOption(const std::string& option, const std::string& value, int low, int high) {
+// Sets one table row from its flag's value, checked against the row's range or choices.
+void setParameter(const sdp::filter::ParameterDescription& p, const std::string& value,
+                  sdp::filter::FilterValues& values) {
+  using sdp::filter::ParameterType;
+  if (p.type == ParameterType::Enum) {
+    std::string names;
+    for (size_t i = 0; i < p.choices.size(); ++i) {
+      if (p.choices[i].cli_name == value) {
+        values.*p.int_field = static_cast<int>(i);
+        return;
+      }
+      names += (i ? ", " : "") + p.choices[i].cli_name;
+    }
+    throw UsageError("unknown " + p.cli_flag + " '" + value + "' (expected one of " + names + ")");
+  }
   int parsed = 0;
   const char* end = value.data() + value.size();
   const auto [ptr, ec] = std::from_chars(value.data(), end, parsed);
   if (ec != std::errc() || ptr != end || value.empty()) {
-    throw UsageError(option + " needs an integer, got '" + value + "'");
+    throw UsageError(p.cli_flag + " needs an integer, got '" + value + "'");
   }
-  if (parsed < low || parsed > high) {
-    throw UsageError(option + " must be between " + std::to_string(low) + " and " +
-                     std::to_string(high) + ", got " + value);
+  try {
+    sdp::filter::checkValue(p, parsed, p.cli_flag);
+  } catch (const sdp::ParameterizationError& e) {
+    throw UsageError(e.what());
   }
-  return parsed;
+  values.*p.int_field = parsed;
 }
 
-std::string namesOf(const char* (*name)(int), int count) {
-  std::string names;
-  for (int i = 0; i < count; ++i) names += std::string(i ? ", " : "") + name(i);
-  return names;
-}
-
-const char* weightName(int i) {
-  return sdp::weightSchemeName(static_cast<sdp::WeightScheme>(i));
-}
-const char* boundaryName(int i) {
-  return sdp::boundaryShapeName(static_cast<sdp::BoundaryShape>(i));
+const sdp::filter::ParameterDescription* cliParameter(const std::string& flag) {
+  for (const auto& p : sdp::filter::parameters())
+    if (p.inCli() && p.cli_flag == flag) return &p;
+  return nullptr;
 }
 
 enum class Action { Run, Help, Version };
@@ -146,12 +175,8 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
       args.quiet = true;
       continue;
     }
-    if (arg == "--natural-scale") {
-      args.natural_scale = true;
-      continue;
-    }
-    if (arg == "--fixed-boundary") {
-      args.options.free_boundary = false;
+    if (const auto* p = cliParameter(arg); p && p->type == sdp::filter::ParameterType::Bool) {
+      args.values.*p->bool_field = true;
       continue;
     }
     // "--name value" or "--name=value".
@@ -165,45 +190,12 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
       if (i + 1 >= argc) throw UsageError(arg + " needs a value");
       return argv[++i];
     };
-    if (arg == "--weights") {
-      const std::string v = value();
-      const auto weights = sdp::parseWeightScheme(v);
-      if (!weights) {
-        throw UsageError("unknown --weights '" + v + "' (expected one of " +
-                         namesOf(weightName, sdp::kWeightSchemeCount) + ")");
-      }
-      args.options.weights = *weights;
-    } else if (arg == "--boundary") {
-      const std::string v = value();
-      const auto boundary = sdp::parseBoundaryShape(v);
-      if (!boundary) {
-        throw UsageError("unknown --boundary '" + v + "' (expected one of " +
-                         namesOf(boundaryName, sdp::kBoundaryShapeCount) + ")");
-      }
-      args.options.boundary = *boundary;
-    } else if (arg == "--source-rule") {
-      const std::string v = value();
-      const auto rule = sdp::parseSourceRule(v);
-      if (!rule)
-        throw UsageError("unknown --source-rule '" + v + "' (expected farthest or centroid)");
-      args.options.source_rule = *rule;
-    } else if (arg == "--source") {
-      args.options.source_vertex =
-          parseIntOption(arg, value(), -1, std::numeric_limits<int>::max());
-    } else if (arg == "--outer-vertex") {
-      args.options.outer_boundary_vertex =
-          parseIntOption(arg, value(), -1, std::numeric_limits<int>::max());
-    } else if (arg == "--stretch-iterations") {
-      args.options.stretch_iterations = parseIntOption(arg, value(), 0, 1000);
-    } else if (arg == "--time-budget") {
-      args.options.refine_time_factor = parseIntOption(arg, value(), 0, 1000);
-    } else if (arg == "--report") {
+    if (arg == "--report") {
       args.report_path = value();
       if (args.report_path.empty()) throw UsageError("--report needs a file name");
-    } else if (arg == "--checkers") {
-      args.checkers = parseIntOption(arg, value(), 1, 512);
-    } else if (arg == "--texture-size") {
-      args.texture_size = parseIntOption(arg, value(), 8, 8192);
+    } else if (const auto* p = cliParameter(arg);
+               p && p->type != sdp::filter::ParameterType::Bool) {
+      setParameter(*p, value(), args.values);
     } else {
       throw UsageError("unknown option " + arg + " (see --help)");
     }
@@ -249,8 +241,9 @@ int run(const Arguments& args) {
   // The written texture coordinates span [0,1] so the checkerboard covers the patch once,
   // unless the caller wants the core's own scale (area-matched for the measured boundary). PLY
   // holds them in single precision, OBJ in full: the core makes the map one-to-one as stored.
-  sdp::Options options = args.options;
-  options.fit_unit_square = !args.natural_scale;
+  sdp::Options options = sdp::filter::toOptions(args.values);
+  options.source_vertex = args.values.source_vertex;  // the file's numbering is the core's
+  options.fit_unit_square = !args.values.natural_scale;
   options.storage =
       lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
   sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
@@ -267,8 +260,8 @@ int run(const Arguments& args) {
   if (lowercaseExtension(args.output) == ".obj") {
     const std::string png_name = out.stem().string() + "_checker.png";
     const std::string png_path = (out.parent_path() / png_name).string();
-    sdp::io::writePng(png_path, args.texture_size, args.texture_size,
-                      sdp::checkerboardRGB(args.texture_size, args.checkers));
+    const int size = args.values.texture_size;
+    sdp::io::writePng(png_path, size, size, sdp::checkerboardRGB(size, args.values.checkers));
     written.add(png_path);
     sdp::io::writeObjWithTexture(args.output, mesh.V, mesh.F, result.uv, png_name);
     written.add(args.output);
@@ -306,7 +299,7 @@ int main(int argc, char** argv) {
   try {
     switch (parseArguments(argc, argv, args)) {
       case Action::Help:
-        std::cout << kUsage;
+        std::cout << usage();
         return 0;
       case Action::Version:
         std::cout << kProgram << ' ' << SDP_VERSION << '\n';

@@ -1,5 +1,5 @@
 # One plugin per MeshLab build users run, from two shims over one core (one shim per plugin API;
-# see filter_straightest_param/filter_description.h):
+# see filter_straightest_param/filter_definition.h):
 #   build/plugins/meshlab-2020.09/        MeshFilterInterface shim: Debian 12's meshlab + meshlabserver
 #   build/plugins/meshlab-2022.02/        FilterPlugin shim, float: Debian 13 (trixie) MeshLab
 #   build/plugins/meshlab-2025.07-float/  FilterPlugin shim, float: Debian sid / Ubuntu 26.04 MeshLab,
@@ -108,7 +108,7 @@ function(sdp_add_meshlab_plugin target version scalar)
   target_include_directories(${target} PRIVATE "${PROJECT_SOURCE_DIR}")
   target_compile_definitions(${target} PRIVATE MESHLAB_SCALAR=${scalar} MESHLAB_VERSION=${version})
   target_compile_options(${target} PRIVATE -Wall -Wextra)
-  target_link_libraries(${target} PRIVATE sdp_core Qt5::Core Qt5::Gui Qt5::Widgets Qt5::OpenGL Qt5::Xml
+  target_link_libraries(${target} PRIVATE sdp_filter_definition Qt5::Core Qt5::Gui Qt5::Widgets Qt5::OpenGL Qt5::Xml
                         ${ARG_LIBRARIES})
   # Our static core must not leak symbols that could clash with MeshLab's.
   target_link_options(${target} PRIVATE -Wl,--exclude-libs,ALL)

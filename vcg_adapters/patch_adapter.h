@@ -16,7 +16,7 @@
 
 #include <vcg/complex/complex.h>
 
-#include "filter_straightest_param/core/parameterize.h"
+#include "core/parameterize.h"
 
 namespace sdp::vcg_adapter {
 

@@ -4,11 +4,8 @@
 #include <new>
 #include <string>
 
-#include "filter_straightest_param/filter_description.h"
-#include "vcg_adapters/filter_run.h"
-#include "vcg_adapters/mesh_model_run.h"
-
-namespace adapter = sdp::vcg_adapter;
+#include "filter_straightest_param/filter_definition.h"
+#include "filter_straightest_param/meshlab_filter.h"
 
 FilterStraightestParamPlugin::FilterStraightestParamPlugin() {
   typeList << FP_STRAIGHTEST_PARAM;
@@ -46,7 +43,7 @@ MeshFilterInterface::FILTER_ARITY FilterStraightestParamPlugin::filterArity(QAct
 
 void FilterStraightestParamPlugin::initParameterSet(QAction*, MeshModel&,
                                                     RichParameterList& parameters) {
-  adapter::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
+  sdp::meshlab::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
 }
 
 // meshlabserver prints only "Problem with filter" for a false return: the log line carries the
@@ -64,14 +61,16 @@ bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
 
-    adapter::ProgressSink progress;
+    sdp::ProgressCallback progress;
     if (cb != nullptr) {
-      // meshlabserver prints the text as is: one line per stage.
-      progress = [cb](int percent, const char* stage) {
+      // meshlabserver prints the text as is: one line per stage. MeshLab's callbacks cannot
+      // cancel reliably (meshlabserver's always says "go on"), so the run is never cancelled.
+      progress = [cb](const char* stage, int percent) {
         cb(percent, ("straightest distances: " + std::string(stage) + "\n").c_str());
+        return true;
       };
     }
-    const adapter::MeshModelRun done = adapter::parameterizeMeshModel(*mm, parameters, progress);
+    const auto done = sdp::meshlab::parameterizeMeshModel(*mm, parameters, progress);
 
     // 2020.09 loads cm.textures relative to the process's current folder (not the mesh's), so
     // the absolute path is what lets the GUI show the checkerboard at once; the OBJ exporter
@@ -79,8 +78,7 @@ bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
     mm->cm.textures.clear();
     mm->cm.textures.push_back(done.texture.path.toStdString());
 
-    for (const std::string& line : adapter::reportLines(done.run, done.stored_metrics))
-      Log("%s", line.c_str());
+    for (const std::string& line : sdp::meshlab::logLines(done)) Log("%s", line.c_str());
     Log("texture %s", qUtf8Printable(done.texture.path));
     if (cb != nullptr) cb(100, "straightest distances: done\n");
     return true;

@@ -5,11 +5,8 @@
 #include <new>
 #include <string>
 
-#include "filter_straightest_param/filter_description.h"
-#include "vcg_adapters/filter_run.h"
-#include "vcg_adapters/mesh_model_run.h"
-
-namespace adapter = sdp::vcg_adapter;
+#include "filter_straightest_param/filter_definition.h"
+#include "filter_straightest_param/meshlab_filter.h"
 
 FilterStraightestParamPlugin::FilterStraightestParamPlugin() {
   typeList = {FP_STRAIGHTEST_PARAM};
@@ -57,7 +54,7 @@ FilterPlugin::FilterArity FilterStraightestParamPlugin::filterArity(const QActio
 RichParameterList FilterStraightestParamPlugin::initParameterList(const QAction*,
                                                                   const MeshModel&) {
   RichParameterList parameters;
-  adapter::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
+  sdp::meshlab::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
   return parameters;
 }
 
@@ -71,26 +68,34 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
 
-    adapter::ProgressSink progress;
-    if (cb != nullptr) progress = [cb](int percent, const char* stage) { cb(percent, stage); };
-    const adapter::MeshModelRun done = adapter::parameterizeMeshModel(*mm, parameters, progress);
+    sdp::ProgressCallback progress;
+    if (cb != nullptr) {
+      // MeshLab's callbacks cannot cancel reliably, so the run is never cancelled from here.
+      progress = [cb](const char* stage, int percent) {
+        cb(percent, stage);
+        return true;
+      };
+    }
+    const auto done = sdp::meshlab::parameterizeMeshModel(*mm, parameters, progress);
 
     // 2025.07 keeps the image in memory under its file name; saving the mesh writes it beside
     // the saved file, and the GUI shows it from memory.
     mm->clearTextures();
     mm->addTexture(done.texture.name.toStdString(), done.texture.image);
 
-    for (const std::string& line : adapter::reportLines(done.run, done.stored_metrics))
-      log("%s", line.c_str());
+    for (const std::string& line : sdp::meshlab::logLines(done)) log("%s", line.c_str());
     log("texture %s", qUtf8Printable(done.texture.path));
     if (cb != nullptr) cb(100, "done");
 
-    const adapter::ReportValues r = adapter::reportValues(done.run, done.stored_metrics);
-    return {
-        {"l2_stretch", QVariant(r.l2_stretch)},       {"linf_stretch", QVariant(r.linf_stretch)},
-        {"flipped_faces", QVariant(r.flipped_faces)}, {"fallbacks", QVariant(r.fallbacks)},
-        {"source_vertex", QVariant(r.source_vertex)}, {"seconds", QVariant(r.seconds)},
-    };
+    // The pymeshlab dict: the report's summary fields (docs/method.md §6).
+    std::map<std::string, QVariant> values;
+    const sdp::Report& report = done.run.result.report;
+    for (const sdp::ReportField& field : sdp::reportFields()) {
+      if (!field.summary) continue;
+      const double value = field.number(report);
+      values[field.key] = field.integer ? QVariant(static_cast<int>(value)) : QVariant(value);
+    }
+    return values;
   } catch (const MLException&) {
     throw;
   } catch (const std::bad_alloc&) {

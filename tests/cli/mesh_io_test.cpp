@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "checkerboard.h"
+#include "filter_straightest_param/checkerboard.h"
 #include "mesh_io.h"
 #include "test_mesh_files.h"
 

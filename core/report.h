@@ -44,9 +44,24 @@ struct Report {
   std::vector<std::string> warnings;                          // one line each, for logs
   std::vector<std::string> notes;  // what was done that needs no action (e.g. a storage repair)
 
-  // JSON object with the docs/method.md §6 keys (pymeshlab dict keys + vertices, faces, weights,
-  // boundary, stage_seconds) and the breakdown above.
+  // JSON object with a key per reportFields() row, in its order.
   std::string toJson() const;
 };
+
+// One row of the report's table: the JSON key and what it means. The `summary` rows are the
+// docs/method.md §6 values every front end shows: the pymeshlab dict, the log's summary line and
+// the first keys of the JSON report.
+struct ReportField {
+  const char* key;      // JSON key, and the pymeshlab dict key of a summary row
+  const char* meaning;  // for the README
+  bool summary = false;
+  bool integer = false;                          // summary rows: an int (else a double)
+  const char* log_label = nullptr;               // summary rows: the words before the value
+  const char* log_format = nullptr;              // summary rows: printf format of the value
+  double (*number)(const Report&) = nullptr;     // numeric rows
+  std::string (*json)(const Report&) = nullptr;  // other rows: the JSON text of the value
+  std::string jsonValue(const Report& r) const;  // either kind
+};
+const std::vector<ReportField>& reportFields();
 
 }  // namespace sdp

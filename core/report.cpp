@@ -1,0 +1,212 @@
+#include "report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace sdp {
+namespace {
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// JSON has no inf/nan: a non-finite number is written as null.
+std::string jsonNumber(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", x);
+  return buf;
+}
+
+std::string jsonInt(int x) {
+  return std::to_string(x);
+}
+
+template <class T>
+std::string jsonList(const std::vector<T>& items, std::string (*item)(const T&)) {
+  std::string out = "[";
+  for (size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + item(items[i]);
+  return out + "]";
+}
+
+// {"a": 1, "b": 2} from key/value-text pairs.
+std::string jsonObject(const std::vector<std::pair<std::string, std::string>>& members) {
+  std::string out = "{";
+  for (size_t i = 0; i < members.size(); ++i)
+    out += (i ? ", " : "") + jsonString(members[i].first) + ": " + members[i].second;
+  return out + "}";
+}
+
+ReportField summary(const char* key, const char* meaning, const char* log_label,
+                    const char* log_format, bool integer, double (*number)(const Report&)) {
+  ReportField f{key, meaning};
+  f.summary = true;
+  f.integer = integer;
+  f.log_label = log_label;
+  f.log_format = log_format;
+  f.number = number;
+  return f;
+}
+ReportField integer(const char* key, const char* meaning, double (*number)(const Report&)) {
+  ReportField f{key, meaning};
+  f.integer = true;
+  f.number = number;
+  return f;
+}
+ReportField real(const char* key, const char* meaning, double (*number)(const Report&)) {
+  ReportField f{key, meaning};
+  f.number = number;
+  return f;
+}
+ReportField other(const char* key, const char* meaning, std::string (*json)(const Report&)) {
+  ReportField f{key, meaning};
+  f.json = json;
+  return f;
+}
+
+}  // namespace
+
+std::string ReportField::jsonValue(const Report& r) const {
+  if (json) return json(r);
+  return integer ? jsonInt(static_cast<int>(number(r))) : jsonNumber(number(r));
+}
+
+const std::vector<ReportField>& reportFields() {
+  using R = const Report&;
+  static const std::vector<ReportField> fields = {
+      summary("l2_stretch",
+              "Sander et al. L2 texture stretch of the map as stored, area-weighted, normalized so "
+              "1.0 is "
+              "isometric",
+              "L2 stretch", "%.4f", false, [](R r) { return r.l2_stretch; }),
+      summary("linf_stretch", "the worst face's largest stretch (same normalization)",
+              "Linf stretch", "%.4f", false, [](R r) { return r.linf_stretch; }),
+      summary(
+          "flipped_faces",
+          "faces with non-positive UV area as stored: always 0 (a run that cannot reach 0 fails)",
+          "flipped faces", "%.0f", true, [](R r) { return double(r.flipped_faces); }),
+      summary("fallbacks",
+              "per-neighbour, per-ring and per-walk fallbacks plus whole-boundary ones, summed "
+              "(`fallback_counts` breaks it down)",
+              "fallbacks", "%.0f", true, [](R r) { return double(r.fallbacks); }),
+      summary("source_vertex",
+              "S of the measured boundary (a vertex index of the input mesh), -1 for circle and "
+              "square",
+              "source vertex", "%.0f", true, [](R r) { return double(r.source_vertex); }),
+      summary("seconds",
+              "wall time of the parameterization (topology, weights, boundary, solve, "
+              "refinement, metrics), no file I/O",
+              "seconds", "%.3f", false, [](R r) { return r.seconds; }),
+      integer("vertices",
+              "vertices of the patch (unreferenced ones are left out and counted below)",
+              [](R r) { return double(r.vertices); }),
+      integer("faces", "faces of the patch", [](R r) { return double(r.faces); }),
+      other("weights", "the weights asked for (CLI name)",
+            [](R r) { return jsonString(r.weights); }),
+      other("boundary", "the boundary asked for (CLI name)",
+            [](R r) { return jsonString(r.boundary); }),
+      other("boundary_used", "the boundary actually used (differs after a safety fallback)",
+            [](R r) { return jsonString(r.boundary_used); }),
+      integer("stretch_iterations", "refinement steps run",
+              [](R r) { return double(r.stretch_iterations_run); }),
+      integer("best_iteration", "the step whose map was kept (0 = the linear map)",
+              [](R r) { return double(r.best_iteration); }),
+      real("l2_stretch_linear", "L2 of the linear map before refinement",
+           [](R r) { return r.l2_stretch_linear; }),
+      real("l2_stretch_fixed_boundary",
+           "L2 after the reweighting on the fixed boundary, before the boundary was let go",
+           [](R r) { return r.l2_stretch_fixed_boundary; }),
+      integer("free_boundary_steps",
+              "free-boundary steps taken, as-rigid-as-possible and Newton together (0: the "
+              "boundary stayed)",
+              [](R r) { return double(r.free_boundary_steps); }),
+      other("refinement_stop",
+            "why refinement ended: `iterations`, `converged`, `time budget`, or `not run`",
+            [](R r) { return jsonString(r.refinement_stop); }),
+      other("fallback_counts",
+            "`straightest_to_ltd` (neighbours whose cutting plane crossed no far-side edge, given "
+            "the LTD direction), `degenerate_rings` (vertices with a zero-area face or zero-length "
+            "edge at them, given uniform weights), `walk_fallbacks` (boundary distances taken from "
+            "edge paths because the plane walk missed its vertex or wandered more than 1.5x the "
+            "edge-path length), `boundary_fallbacks` (whole-boundary fallbacks, e.g. measured to "
+            "circle)",
+            [](R r) {
+              return jsonObject({{"straightest_to_ltd", jsonInt(r.straightest_to_ltd)},
+                                 {"degenerate_rings", jsonInt(r.degenerate_rings)},
+                                 {"walk_fallbacks", jsonInt(r.walk_fallbacks)},
+                                 {"boundary_fallbacks", jsonInt(r.boundary_fallbacks)}});
+            }),
+      integer("unreferenced_vertices", "input vertices no face uses (left out of the map)",
+              [](R r) { return double(r.unreferenced_vertices); }),
+      integer("holes_filled",
+              "inner boundary loops filled virtually for the solve (removed from the result)",
+              [](R r) { return double(r.holes_filled); }),
+      integer("ears_unfolded",
+              "measured boundary: ear apexes (boundary vertices of one face) placed across their "
+              "chord with the ear's own shape instead of on the convex polygon",
+              [](R r) { return double(r.ears_unfolded); }),
+      other("storage",
+            "`precision` the UVs are stored in (`double`, `float`, `float, 6 decimals`), "
+            "`degenerate_faces` that rounding would have collapsed, `moved_vertices` the repair "
+            "moved",
+            [](R r) {
+              return jsonObject({{"precision", jsonString(r.storage)},
+                                 {"degenerate_faces", jsonInt(r.storage_degenerate_faces)},
+                                 {"moved_vertices", jsonInt(r.storage_moved_vertices)}});
+            }),
+      other("stage_seconds", "seconds per stage, in run order",
+            [](R r) {
+              std::vector<std::pair<std::string, std::string>> members;
+              for (const auto& [stage, seconds] : r.stage_seconds)
+                members.emplace_back(stage, jsonNumber(seconds));
+              return jsonObject(members);
+            }),
+      other("warnings", "one line per fallback or notice (the CLI also prints them to stderr)",
+            [](R r) { return jsonList(r.warnings, jsonString); }),
+      other(
+          "notes",
+          "what was done that needs no action (a storage repair); in MeshLab's log as plain lines",
+          [](R r) { return jsonList(r.notes, jsonString); }),
+  };
+  return fields;
+}
+
+std::string Report::toJson() const {
+  const std::vector<ReportField>& fields = reportFields();
+  std::ostringstream o;
+  o << "{\n";
+  for (size_t i = 0; i < fields.size(); ++i) {
+    o << "  " << jsonString(fields[i].key) << ": " << fields[i].jsonValue(*this)
+      << (i + 1 < fields.size() ? ",\n" : "\n");
+  }
+  o << "}\n";
+  return o.str();
+}
+
+}  // namespace sdp

@@ -1,0 +1,174 @@
+// What every MeshLab shim shares (2020.09's MeshFilterInterface, 2022.02/2025.07's FilterPlugin):
+// the parameter table -> MeshLab parameters and back, the checkerboard texture file, and the
+// run on a MeshModel. MeshLab's parameter classes and MeshModel have the same names and members
+// in every version but are distinct types, so they come in as template arguments from each shim.
+#pragma once
+
+#include <QDir>
+#include <QFileInfo>
+#include <QImage>
+#include <QString>
+#include <QStringList>
+#include <string>
+#include <type_traits>
+
+#include "core/error.h"
+#include "filter_straightest_param/checkerboard.h"
+#include "filter_straightest_param/filter_definition.h"
+#include "vcg_adapters/mesh_run.h"
+#include "vcg_adapters/patch_adapter.h"
+
+namespace sdp::meshlab {
+
+inline QString qstr(const std::string& s) {
+  return QString::fromStdString(s);
+}
+
+// Adds the MeshLab rows of sdp::filter::parameters() to a MeshLab parameter list, in order,
+// with docs/method.md §6 labels.
+template <class RichEnumT, class RichIntT, class RichBoolT, class RichStringT, class ParameterList>
+void addFilterParameters(ParameterList& list) {
+  using sdp::filter::ParameterType;
+  for (const auto& p : sdp::filter::parameters()) {
+    if (!p.inMeshLab()) continue;
+    switch (p.type) {
+      case ParameterType::Enum: {
+        QStringList labels;
+        for (const auto& choice : p.choices) labels << qstr(choice.label);
+        list.addParam(RichEnumT(qstr(p.name), p.default_int, labels, qstr(p.label), qstr(p.help)));
+        break;
+      }
+      case ParameterType::Int:
+        list.addParam(RichIntT(qstr(p.name), p.default_int, qstr(p.label), qstr(p.help)));
+        break;
+      case ParameterType::Bool:
+        list.addParam(RichBoolT(qstr(p.name), p.default_int != 0, qstr(p.label), qstr(p.help)));
+        break;
+      case ParameterType::String:
+        list.addParam(
+            RichStringT(qstr(p.name), qstr(p.default_string), qstr(p.label), qstr(p.help)));
+        break;
+    }
+  }
+}
+
+// Reads the values back by the table's names; the CLI-only rows keep their defaults.
+template <class ParameterList>
+sdp::filter::FilterValues readFilterValues(const ParameterList& list) {
+  using sdp::filter::ParameterType;
+  sdp::filter::FilterValues v = sdp::filter::defaultValues();
+  for (const auto& p : sdp::filter::parameters()) {
+    if (!p.inMeshLab()) continue;
+    const QString name = qstr(p.name);
+    switch (p.type) {
+      case ParameterType::Enum:
+        v.*p.int_field = list.getEnum(name);
+        break;
+      case ParameterType::Int:
+        v.*p.int_field = list.getInt(name);
+        break;
+      case ParameterType::Bool:
+        v.*p.bool_field = list.getBool(name);
+        break;
+      case ParameterType::String:
+        v.*p.string_field = list.getString(name).toStdString();
+        break;
+    }
+  }
+  return v;
+}
+
+// A file name for the texture: no folders (it is written next to the mesh), an image suffix
+// Qt can write (".png" added otherwise).
+inline QString textureFileName(const std::string& texture_name) {
+  QString name = qstr(texture_name).trimmed();
+  if (name.isEmpty()) throw sdp::ParameterizationError("texturename is empty");
+  if (name.contains('/') || name.contains('\\')) {
+    throw sdp::ParameterizationError("texturename must be a file name without folders: " +
+                                     texture_name);
+  }
+  const QString suffix = QFileInfo(name).suffix().toLower();
+  if (suffix != "png" && suffix != "jpg" && suffix != "jpeg" && suffix != "bmp") name += ".png";
+  return name;
+}
+
+struct CheckerTexture {
+  QString name;  // file name, e.g. "straightest_checker.png"
+  QString path;  // absolute path of the written file
+  QImage image;
+};
+
+inline QImage checkerImage(int size, int checkers) {
+  const std::vector<unsigned char> rgb = sdp::checkerboardRGB(size, checkers);
+  // copy(): the QImage must own its pixels once `rgb` is gone.
+  return QImage(rgb.data(), size, size, size * 3, QImage::Format_RGB888)
+      .copy()
+      .convertToFormat(QImage::Format_RGB32);
+}
+
+// Writes the checkerboard next to the mesh file; into the temporary folder when the mesh has no
+// file yet or its folder is not writable.
+inline CheckerTexture writeCheckerTexture(const QString& mesh_file, const std::string& texture_name,
+                                          int size, int checkers) {
+  CheckerTexture t;
+  t.name = textureFileName(texture_name);
+  t.image = checkerImage(size, checkers);
+  if (t.image.isNull()) throw sdp::ParameterizationError("not enough memory for the texture");
+  QStringList folders;
+  if (!mesh_file.isEmpty()) folders << QFileInfo(mesh_file).absolutePath();
+  folders << QDir::tempPath();
+  for (const QString& folder : folders) {
+    const QString path = QDir(folder).absoluteFilePath(t.name);
+    if (t.image.save(path)) {
+      t.path = path;
+      return t;
+    }
+  }
+  throw sdp::ParameterizationError("cannot write the texture " + t.name.toStdString());
+}
+
+struct MeshModelRun {
+  vcg_adapter::MeshRun run;  // its report describes the UVs as the mesh now holds them
+  CheckerTexture texture;    // written, not yet attached
+};
+
+// The part of applyFilter every shim shares, in the order that keeps a failure from touching the
+// mesh: read and check the parameters, run the core, prepare what will be stored, write the
+// checkerboard file, and only then change the mesh. Attaching the texture, logging and the
+// return value differ and stay in the shims.
+template <class MeshModelT, class ParameterList>
+MeshModelRun parameterizeMeshModel(MeshModelT& mm, const ParameterList& parameters,
+                                   const sdp::ProgressCallback& progress) {
+  using Mesh = std::decay_t<decltype(mm.cm)>;
+  const sdp::filter::FilterValues values = readFilterValues(parameters);
+  textureFileName(values.texture_name);  // a typo fails at once, not after a long run
+  sdp::Options options = sdp::filter::toOptions(values);
+  vcg_adapter::setMeshLabStorage(options);
+  options.progress = progress;
+  MeshModelRun out{
+      vcg_adapter::runOnMesh(mm.cm, options, values.selected_only, values.source_vertex), {}};
+
+  vcg_adapter::WriteOptions write;
+  // Per-vertex UVs only where the mesh already had them, so they do not go stale.
+  write.vertex_texcoords = mm.hasDataMask(MeshModelT::MM_VERTTEXCOORD);
+  const auto stored = vcg_adapter::prepareResult<Mesh>(out.run.input, out.run.result);
+  // The texture is written before the mesh changes, so its failure too leaves the mesh as it was.
+  out.texture =
+      writeCheckerTexture(mm.fullName(), values.texture_name, values.texture_size, values.checkers);
+
+  mm.updateDataMask(MeshModelT::MM_WEDGTEXCOORD | MeshModelT::MM_FACEQUALITY);
+  vcg_adapter::applyResult(mm.cm, out.run.input, stored, write);
+  // The report speaks of the UVs as the mesh holds them (the core measured them rounded so).
+  sdp::Report& report = out.run.result.report;
+  report.l2_stretch = stored.metrics.l2_stretch;
+  report.linf_stretch = stored.metrics.linf_stretch;
+  report.flipped_faces = stored.metrics.flipped_faces;
+  return out;
+}
+
+// The report's log lines: the filter's wording plus this run's remarks.
+inline std::vector<std::string> logLines(const MeshModelRun& done) {
+  return sdp::filter::reportLines(done.run.result.report, done.run.notes);
+}
+
+}  // namespace sdp::meshlab
