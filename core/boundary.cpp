@@ -1,4 +1,5 @@
 #include "boundary.h"
+#include "geometry.h"
 
 #include "free_boundary.h"
 
@@ -17,10 +18,6 @@ namespace sdp {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 // 3D lengths of the boundary edges b_k -> b_{k+1}, floored so that a zero-length edge cannot
 // put two boundary vertices on one point.
@@ -68,13 +65,7 @@ double earStretch(const Patch& patch, const Polygon& polygon) {
   const auto& loop = patch.boundary_loop;
   std::vector<int> position(patch.vertexCount(), -1);
   for (size_t k = 0; k < loop.size(); ++k) position[loop[k]] = static_cast<int>(k);
-  double mesh_area = 0;
-  for (int f = 0; f < patch.real_face_count; ++f) {
-    const auto& t = patch.face[f];
-    mesh_area += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
-                           .cross(patch.position[t[2]] - patch.position[t[0]])
-                           .norm();
-  }
+  const double mesh_area = patchArea3d(patch);
   const double scale = std::sqrt(mesh_area / std::abs(polygonArea(polygon)));
   double weighted = 0, area = 0;
   for (int f = 0; f < patch.real_face_count; ++f) {
@@ -562,14 +553,7 @@ Polygon measuredBoundary(const Patch& patch, int source, MeasuredCounts& counts)
   }
   Polygon convex = convexWithUnfoldedEars(patch, polar, counts);
   if (convex.empty()) return {};
-  double area3d = 0;
-  for (int f = 0; f < patch.real_face_count; ++f) {
-    const auto& t = patch.face[f];
-    area3d += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
-                        .cross(patch.position[t[2]] - patch.position[t[0]])
-                        .norm();
-  }
-  const double scale = std::sqrt(area3d / polygonArea(convex));
+  const double scale = std::sqrt(patchArea3d(patch) / polygonArea(convex));
   for (auto& q : convex) q *= scale;
   return convex;
 }

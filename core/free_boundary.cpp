@@ -1,6 +1,8 @@
 #include "free_boundary.h"
 
+#include "checked_descent.h"
 #include "error.h"
+#include "geometry.h"
 #include "multigrid.h"
 
 #include <Eigen/Geometry>
@@ -42,8 +44,7 @@ namespace {
 using Edge = BorderEdge;
 
 double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  const Eigen::Vector2d u = b - a, v = c - a;
-  return u.x() * v.y() - u.y() * v.x();
+  return cross2(b - a, c - a);
 }
 
 bool within(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
@@ -74,7 +75,7 @@ FlatFace flatten(const Patch& patch, int f) {
   flat.x = flatTriangle(patch, f);
   for (int k = 0; k < 3; ++k) {
     const Eigen::Vector2d u = flat.x[(k + 1) % 3] - flat.x[k], v = flat.x[(k + 2) % 3] - flat.x[k];
-    const double cross = std::abs(u.x() * v.y() - u.y() * v.x());
+    const double cross = std::abs(cross2(u, v));
     // Cotangent weights kept in [0.01, 1e4]: positive, so the global step is an M-matrix the
     // project's multigrid solves in a few iterations (exact cotangents, negative at obtuse
     // angles, need a Cholesky factor: 7 s for 3 steps at 414k vertices instead of 1), and a
@@ -196,29 +197,20 @@ bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {
 
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                StretchMetrics& metrics, FreeBoundaryCounts& counts,
-                               const ProgressCallback& progress, const RefineBudget& budget) {
+                               const Progress& progress, const RefineBudget& budget) {
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
   if (budget.expired()) return uv;  // before the setup, which costs about a step itself
   try {
-    // Start at the 3D size (the rigid targets are 3D edge vectors).
-    double area2d = 0, area3d = 0;
-    for (int f = 0; f < faces; ++f) {
-      const auto& t = patch.face[f];
-      const Eigen::Vector2d a = uv[t[1]] - uv[t[0]], b = uv[t[2]] - uv[t[0]];
-      area2d += 0.5 * (a.x() * b.y() - a.y() * b.x());
-      area3d += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
-                          .cross(patch.position[t[2]] - patch.position[t[0]])
-                          .norm();
-    }
+    // Start at the 3D size (the rigid targets are 3D edge vectors); the best map stays the
+    // start as given until a step lowers L2.
+    const double area2d = patchAreaUV(patch, uv), area3d = patchArea3d(patch);
     if (!(area2d > 0) || !(area3d > 0)) return uv;
     const double scale = std::sqrt(area3d / area2d);
-    LocalUVs current = uv;
-    for (auto& p : current) p *= scale;
-    LocalUVs best = uv;
+    CheckedDescent descent(patch, uv, metrics, budget, progress, Stage::FreeBoundary);
+    for (auto& p : descent.current()) p *= scale;
 
-    const std::vector<Edge> border = boundaryEdges(patch);  // the same for every check
     std::vector<FlatFace> flat(faces);
     for (int f = 0; f < faces; ++f) flat[f] = flatten(patch, f);
 
@@ -242,14 +234,13 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
     GlobalSolver global(n - 1, entries);
     std::vector<Eigen::Triplet<double>>().swap(entries);
     Eigen::MatrixX2d solved(n - 1, 2);
-
     Eigen::MatrixX2d rhs(n - 1, 2);
+    LocalUVs direction(uv.size(), Eigen::Vector2d::Zero());  // the pinned vertex stays
+
     int steps_without_gain = 0;  // L2 is not what ARAP lowers: allow one step that does not
     for (int step = 0; step < steps; ++step) {
-      if (progress && !progress("free boundary", 95 + 2 * step / steps))
-        throw ParameterizationError("cancelled by the user");
-      if (budget.expired()) break;
-      const auto step_start = RefineBudget::Clock::now();
+      if (!descent.beginStep(step, steps)) break;
+      const LocalUVs& current = descent.current();
       // Local step: the rotation closest to each face's current map (2x2 polar decomposition
       // in closed form). Global step: the positions that best fit all the rotated faces.
       rhs.setZero();
@@ -281,37 +272,24 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
       for (int v = 0; v < n; ++v)
         if (v != pinned) solved.row(unknown(v)) = current[v].transpose();
       if (!global.solve(rhs, solved)) break;
+      for (int v = 0; v < n; ++v)
+        if (v != pinned) direction[v] = solved.row(unknown(v)).transpose() - current[v];
 
-      // Take the step, halved until it neither folds a face nor crosses the boundary.
-      bool taken = false;
-      LocalUVs candidate = current;
-      for (int halvings = 0; halvings <= 8 && !taken; ++halvings) {
-        const double length = std::ldexp(1.0, -halvings);
-        for (int v = 0; v < n; ++v)
-          if (v != pinned)
-            candidate[v] = current[v] + length * (solved.row(unknown(v)).transpose() - current[v]);
-        if (flippedFaceCount(patch, candidate) > 0 || !edgesAreSimple(border, candidate)) continue;
-        StretchMetrics measured = stretchMetrics(patch, candidate);
-        if (measured.flipped_faces > 0) continue;  // the same rule; kept as the last word
-        taken = true;
+      // The whole step, halved until it neither folds a face nor crosses the boundary.
+      const CheckedDescent::Outcome outcome = descent.tryStep(direction, 1.0, 8);
+      if (outcome.taken) {
         ++counts.steps_taken;
-        if (halvings > 0) ++counts.steps_shortened;
-        current.swap(candidate);
-        steps_without_gain = budget.gained(metrics.l2, measured.l2) ? 0 : steps_without_gain + 1;
-        if (measured.l2 < metrics.l2) {
-          metrics = std::move(measured);
-          best = current;
-        }
+        if (outcome.halvings > 0) ++counts.steps_shortened;
+        steps_without_gain = outcome.gained ? 0 : steps_without_gain + 1;
       }
-      budget.step_seconds =
-          std::chrono::duration<double>(RefineBudget::Clock::now() - step_start).count();
+      descent.recordStepTime();
       if (steps_without_gain >= 2) break;
-      if (!taken) {
+      if (!outcome.taken) {
         counts.stopped = true;
         break;
       }
     }
-    return best;
+    return descent.takeBest();
   } catch (const std::bad_alloc&) {
     counts.stopped = true;  // the factor did not fit: keep the fixed-boundary map
     return uv;

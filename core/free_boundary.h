@@ -14,6 +14,7 @@
 #include "metrics.h"
 #include "options.h"
 #include "patch.h"
+#include "progress.h"
 #include "refine_budget.h"
 #include "solve.h"
 
@@ -28,11 +29,10 @@ struct FreeBoundaryCounts {
 // Up to `steps` steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the map with
 // the lowest L2 stretch seen (the start if no step lowers it) and its metrics in `metrics`.
 // Virtual hole-fill vertices keep their start positions; they are not part of the user's mesh.
-// `progress` (may be empty) is called before each step with "free boundary"; false cancels
-// (ParameterizationError "cancelled by the user").
+// `progress` is told of each step (Stage::FreeBoundary) and may cancel.
 LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                StretchMetrics& metrics, FreeBoundaryCounts& counts,
-                               const ProgressCallback& progress = {},
+                               const Progress& progress = Progress(),
                                const RefineBudget& budget = {});
 
 // Face f laid flat isometrically: corner 0 at the origin, corner 1 on the positive x axis,

@@ -1,4 +1,5 @@
 #include "metrics.h"
+#include "geometry.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -80,8 +81,7 @@ int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv)
   double total = 0;
   for (int f = 0; f < faces; ++f) {
     const auto& t = patch.face[f];
-    const Eigen::Vector2d a = uv[t[1]] - uv[t[0]], b = uv[t[2]] - uv[t[0]];
-    area[f] = 0.5 * (a.x() * b.y() - a.y() * b.x());
+    area[f] = signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
     total += area[f];
   }
   const FlipRule rule(total);

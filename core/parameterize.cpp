@@ -6,12 +6,14 @@
 #include <cstdio>
 #include <limits>
 #include <new>
+#include <optional>
 #include <string>
 
 #include "boundary.h"
 #include "free_boundary.h"
 #include "metrics.h"
 #include "patch.h"
+#include "progress.h"
 #include "solve.h"
 #include "storage.h"
 #include "stretch_newton.h"
@@ -23,14 +25,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Accumulates wall time per stage (a stage may run again after a fallback) and reports
-// progress; a cancelled run stops at the next stage boundary.
+// progress at each stage's start; a cancelled run stops at the next stage boundary.
 class StageClock {
  public:
-  StageClock(Report& report, const ProgressCallback& progress)
-      : report_(report), progress_(progress) {}
-  void begin(const char* stage, int percent) {
-    if (progress_ && !progress_(stage, percent))
-      throw ParameterizationError("cancelled by the user");
+  StageClock(Report& report, const Progress& progress) : report_(report), progress_(progress) {}
+  void begin(const char* stage, Stage progress_stage) {
+    progress_.report(progress_stage);
     stage_ = stage;
     start_ = Clock::now();
   }
@@ -55,7 +55,7 @@ class StageClock {
   }
 
   Report& report_;
-  const ProgressCallback& progress_;
+  const Progress& progress_;
   std::string stage_;
   Clock::time_point start_;
 };
@@ -155,51 +155,189 @@ Result parameterize(const Positions& V, const Triangles& F, const Options& optio
 
 namespace {
 
-Result parameterizeChecked(const Positions& V, const Triangles& F, const Options& options) {
-  const auto run_start = Clock::now();
-  if (options.stretch_iterations < 0)
-    throw ParameterizationError("stretch iterations must be 0 or more");
-  Result result;
-  Report& report = result.report;
-  report.weights = weightSchemeName(options.weights);
-  report.boundary = boundaryShapeName(options.boundary);
-  StageClock clock(report, options.progress);
+// The pipeline (docs/method.md), one run of it: each stage is a member function, called in
+// this order by parameterizeChecked():
+//   topology            the patch, its holes, the user's source vertex
+//   weightsAndBoundary  the interior weights (§2) and, alongside, the boundary (§3) under the
+//                       boundary policy, which owns its fallback rules
+//   solveOneToOne       the linear solve (§2), which owns tightening and the circle / uniform
+//                       fallbacks: it returns a one-to-one map or refuses
+//   refine              reweighting, then with the measured boundary ARAP and Newton steps, all
+//                       under one time budget (§4)
+//   countFallbacks      the report's counts and warnings
+//   store               the frame and precision of the front end, repaired and measured (§5)
+class Pipeline {
+ public:
+  Pipeline(const Positions& V, const Options& options)
+      : V_(V), options_(options), progress_(options.progress), clock_(report(), progress_) {
+    if (options.stretch_iterations < 0)
+      throw ParameterizationError("stretch iterations must be 0 or more");
+    report().weights = weightSchemeName(options.weights);
+    report().boundary = boundaryShapeName(options.boundary);
+  }
 
-  clock.begin("topology", 0);
-  PatchOptions patch_options;
-  patch_options.outer_vertex = options.outer_boundary_vertex;
-  const Patch patch = buildPatch(V, F, patch_options);
-  report.vertices = patch.real_vertex_count;
-  report.faces = patch.real_face_count;
-  report.holes_filled = patch.holes_filled;
-  report.unreferenced_vertices = static_cast<int>(V.rows()) - patch.real_vertex_count;
-  BoundaryShape shape = options.boundary;
-  int source = userSource(patch, static_cast<int>(V.rows()), options.source_vertex,
-                          shape == BoundaryShape::Measured);
-  clock.end();
+  void topology(const Triangles& F) {
+    clock_.begin("topology", Stage::Topology);
+    PatchOptions patch_options;
+    patch_options.outer_vertex = options_.outer_boundary_vertex;
+    patch_ = buildPatch(V_, F, patch_options);
+    report().vertices = patch_.real_vertex_count;
+    report().faces = patch_.real_face_count;
+    report().holes_filled = patch_.holes_filled;
+    report().unreferenced_vertices = static_cast<int>(V_.rows()) - patch_.real_vertex_count;
+    shape_ = options_.boundary;
+    source_ = userSource(patch_, static_cast<int>(V_.rows()), options_.source_vertex,
+                         shape_ == BoundaryShape::Measured);
+    clock_.end();
+  }
 
-  auto fallBackToCircle = [&](const std::string& why) {
-    report.warnings.push_back(why + "; used the circle boundary instead");
-    ++report.boundary_fallbacks;
-    shape = BoundaryShape::Circle;
-  };
-  Polygon boundary;
-  MeasuredCounts measured_counts;
   // The boundary (source choice, walks) runs on this thread while the other cores start on the
   // weights, then joins them: the two do not depend on each other. Their stage times overlap.
-  auto measureBoundary = [&] {
-    const auto start = Clock::now();
-    if (shape == BoundaryShape::Measured && source < 0)
-      source = chooseSourceVertex(patch, options.source_rule);
-    if (shape == BoundaryShape::Measured) {
-      if (source < 0) {
+  void weightsAndBoundary() {
+    clock_.begin("weights", Stage::Weights);
+    weights_ = computeWeights(patch_, options_.weights, weight_counts_, [this] {
+      const auto start = Clock::now();
+      boundaryPolicy();
+      clock_.add("boundary", std::chrono::duration<double>(Clock::now() - start).count());
+    });
+    clock_.end();
+  }
+
+  // Never returns a folded map: first the circle (strictly convex in exact arithmetic), then
+  // uniform weights (Tutte, the best-conditioned system), else refuses with the reason.
+  void solveOneToOne() {
+    solver_.emplace(patch_);
+    solveAndMeasure();
+    if (metrics_.flipped_faces > 0 && shape_ != BoundaryShape::Circle) {
+      fallBackToCircle("the " + std::string(boundaryShapeName(shape_)) + " boundary gave " +
+                       std::to_string(metrics_.flipped_faces) + " flipped or degenerate faces");
+      clock_.begin("boundary", Stage::Boundary);
+      boundary_ = circleBoundary(patch_);
+      clock_.end();
+      solveAndMeasure();
+    }
+    if (metrics_.flipped_faces > 0 && options_.weights != WeightScheme::Uniform) {
+      report().warnings.push_back(
+          std::to_string(metrics_.flipped_faces) + " faces folded with " + report().weights +
+          " weights (near-degenerate triangles); used uniform weights instead");
+      ++report().boundary_fallbacks;
+      WeightCounts ignored;
+      weights_ = computeWeights(patch_, WeightScheme::Uniform, ignored);
+      solveAndMeasure();
+    }
+    if (metrics_.flipped_faces > 0)
+      throw ParameterizationError(
+          "no one-to-one map: " + std::to_string(metrics_.flipped_faces) +
+          " faces stay flipped or degenerate even with a circle boundary and uniform weights (the "
+          "mesh has near-degenerate triangles)");
+    report().l2_stretch_linear = metrics_.l2;
+  }
+
+  void refine() {
+    if (options_.stretch_iterations <= 0) return;
+    // One deadline for the three loops (reweighting, ARAP, Newton); each loop has its own
+    // budget object, which records why it stopped and how long its last step took.
+    refine_start_ = Clock::now();
+    if (options_.refine_time_factor > 0) {
+      const double linear = std::chrono::duration<double>(refine_start_ - run_start_).count();
+      budget_seconds_ = std::max(options_.refine_min_seconds, options_.refine_time_factor * linear);
+    }
+    const RefineBudget reweighting = newBudget();
+    reweight(reweighting);
+    noteStop(reweighting);
+    report().l2_stretch_fixed_boundary = metrics_.l2;
+    // Only the measured boundary is let go: it stands for the patch's own outline, which this
+    // refines; a circle or square is a shape the user asked for (and it stays after a fallback
+    // from measured to circle, where letting go helps most).
+    if (options_.free_boundary && options_.boundary == BoundaryShape::Measured)
+      freeBoundary(reweighting);
+    report().refinement_stop = refineStopName(stop_);
+  }
+
+  void countFallbacks() {
+    Report& r = report();
+    r.boundary_used = boundaryShapeName(shape_);
+    r.source_vertex = shape_ == BoundaryShape::Measured ? patch_.input_vertex[source_] : -1;
+    r.straightest_to_ltd = weight_counts_.straightest_to_ltd;
+    r.degenerate_rings = weight_counts_.degenerate_rings;
+    r.walk_fallbacks = measured_counts_.walk_failures + measured_counts_.walk_detours;
+    r.ears_unfolded = shape_ == BoundaryShape::Measured ? measured_counts_.ears_unfolded : 0;
+    r.fallbacks =
+        r.straightest_to_ltd + r.degenerate_rings + r.walk_fallbacks + r.boundary_fallbacks;
+    if (r.straightest_to_ltd > 0)
+      r.warnings.push_back(std::to_string(r.straightest_to_ltd) +
+                           " neighbours used the LTD direction (their cutting plane crossed no "
+                           "far-side edge)");
+    if (r.degenerate_rings > 0)
+      r.warnings.push_back(std::to_string(r.degenerate_rings) +
+                           " vertices with a degenerate 1-ring used uniform weights");
+    if (r.walk_fallbacks > 0)
+      r.warnings.push_back(std::to_string(r.walk_fallbacks) +
+                           " boundary distances used the edge-graph distance (plane walk failed "
+                           "or wandered)");
+  }
+
+  // The map as the front end stores it: in its frame, rounded, repaired where rounding would
+  // degenerate a face (storage.h); the report then describes exactly those UVs.
+  void store() {
+    clock_.begin("storage", Stage::Storage);
+    for (auto& p : uv_) p *= patch_.unit;
+    if (options_.fit_unit_square) fitUnitSquare(patch_, uv_);
+    const StorageCounts storage = roundForStorage(patch_, uv_, options_.storage);
+    if (options_.fit_unit_square || options_.storage != UVStorage::Double) {
+      metrics_ = stretchMetrics(patch_, uv_);
+      if (metrics_.flipped_faces > 0)
+        throw ParameterizationError("internal error: the stored map has flipped faces");
+    }
+    Report& r = report();
+    r.storage = uvStorageName(options_.storage);
+    r.storage_degenerate_faces = storage.degenerate_faces;
+    r.storage_moved_vertices = storage.moved_vertices;
+    // Repaired, so not a warning: the stored map is one-to-one.
+    if (storage.degenerate_faces > 0)
+      r.notes.push_back("stored one-to-one: " + std::to_string(storage.degenerate_faces) +
+                        " faces would have collapsed when rounded to " + r.storage +
+                        " texture coordinates; " + std::to_string(storage.moved_vertices) +
+                        " vertices moved");
+    clock_.end();
+    r.l2_stretch = metrics_.l2;
+    r.linf_stretch = metrics_.linf;
+    r.flipped_faces = metrics_.flipped_faces;
+  }
+
+  Result finish() {
+    result_.uv = UVs::Zero(V_.rows(), 2);
+    for (int v = 0; v < patch_.real_vertex_count; ++v)
+      result_.uv.row(patch_.input_vertex[v]) = uv_[v].transpose();
+    result_.face_stretch = std::move(metrics_.face_l2);
+    report().seconds = std::chrono::duration<double>(Clock::now() - run_start_).count();
+    progress_.done();
+    return std::move(result_);
+  }
+
+ private:
+  Report& report() { return result_.report; }
+
+  void fallBackToCircle(const std::string& why) {
+    report().warnings.push_back(why + "; used the circle boundary instead");
+    ++report().boundary_fallbacks;
+    shape_ = BoundaryShape::Circle;
+  }
+
+  // The boundary policy: the shape asked for, unless it cannot serve, then the circle (with the
+  // reason as a warning).
+  void boundaryPolicy() {
+    if (shape_ == BoundaryShape::Measured && source_ < 0)
+      source_ = chooseSourceVertex(patch_, options_.source_rule);
+    if (shape_ == BoundaryShape::Measured) {
+      if (source_ < 0) {
         fallBackToCircle("the patch has no interior vertex to measure the boundary from");
       } else {
-        boundary = measuredBoundary(patch, source, measured_counts);
-        if (boundary.empty()) {
+        boundary_ = measuredBoundary(patch_, source_, measured_counts_);
+        if (boundary_.empty()) {
           fallBackToCircle("the measured boundary could not be made convex");
-        } else if (const double ears = earStretch(patch, boundary),
-                   circle_ears = earStretch(patch, circleBoundary(patch));
+        } else if (const double ears = earStretch(patch_, boundary_),
+                   circle_ears = earStretch(patch_, circleBoundary(patch_));
                    ears > 4 * std::max(circle_ears, 1.0)) {
           // Faces with all corners on the boundary are shaped by the polygon alone; where the
           // convex hull straightened a stretch, they are crushed flat. Ears are unfolded
@@ -216,204 +354,133 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
         // polygon holds even when most of them miss (camel_b: 435 of 486; refined from it, its
         // L2 is lower than from the circle, 1.0187 against 1.0203).
       }
-    } else if (shape == BoundaryShape::Square) {
-      boundary = squareBoundary(patch);
-      if (boundary.empty())
+    } else if (shape_ == BoundaryShape::Square) {
+      boundary_ = squareBoundary(patch_);
+      if (boundary_.empty())
         fallBackToCircle("a square boundary needs at least 4 boundary vertices");
     }
-    if (shape == BoundaryShape::Circle) boundary = circleBoundary(patch);
-    clock.add("boundary", std::chrono::duration<double>(Clock::now() - start).count());
-  };
-  clock.begin("weights", 10);
-  WeightCounts weight_counts;
-  std::vector<double> weights =
-      computeWeights(patch, options.weights, weight_counts, measureBoundary);
-  clock.end();
+    if (shape_ == BoundaryShape::Circle) boundary_ = circleBoundary(patch_);
+  }
 
-  InteriorSolver solver(patch);
-  LocalUVs uv;
-  StretchMetrics metrics;
   // Solves and measures; a map with flipped faces from the (loose) iterative solve is solved
   // again tightly first: the fold may be the solver's, not the weights' or the boundary's.
-  auto solveAndMeasure = [&](const std::vector<double>& w, const Polygon& polygon) {
+  void solveAndMeasure() {
     do {
-      clock.begin("solve", 40);
-      uv = solver.solve(w, polygon);
-      clock.end();
-      clock.begin("metrics", 80);
-      metrics = stretchMetrics(patch, uv);
-      clock.end();
-    } while (metrics.flipped_faces > 0 && solver.tighten());
-  };
-  solveAndMeasure(weights, boundary);
-
-  // Never return a folded map: first the circle (strictly convex in exact arithmetic), then
-  // uniform weights (Tutte, the best-conditioned system), else refuse with the reason.
-  if (metrics.flipped_faces > 0 && shape != BoundaryShape::Circle) {
-    fallBackToCircle("the " + std::string(boundaryShapeName(shape)) + " boundary gave " +
-                     std::to_string(metrics.flipped_faces) + " flipped or degenerate faces");
-    clock.begin("boundary", 40);
-    boundary = circleBoundary(patch);
-    clock.end();
-    solveAndMeasure(weights, boundary);
+      clock_.begin("solve", Stage::Solve);
+      uv_ = solver_->solve(weights_, boundary_);
+      clock_.end();
+      clock_.begin("metrics", Stage::Metrics);
+      metrics_ = stretchMetrics(patch_, uv_);
+      clock_.end();
+    } while (metrics_.flipped_faces > 0 && solver_->tighten());
   }
-  if (metrics.flipped_faces > 0 && options.weights != WeightScheme::Uniform) {
-    report.warnings.push_back(std::to_string(metrics.flipped_faces) + " faces folded with " +
-                              report.weights +
-                              " weights (near-degenerate triangles); used uniform weights instead");
-    ++report.boundary_fallbacks;
-    WeightCounts ignored;
-    weights = computeWeights(patch, WeightScheme::Uniform, ignored);
-    solveAndMeasure(weights, boundary);
+
+  RefineBudget newBudget() const {
+    RefineBudget budget;
+    budget.min_gain = options_.refine_min_gain;
+    if (std::isfinite(budget_seconds_))
+      budget.deadline = refine_start_ + std::chrono::duration_cast<Clock::duration>(
+                                            std::chrono::duration<double>(budget_seconds_));
+    return budget;
   }
-  if (metrics.flipped_faces > 0)
-    throw ParameterizationError("no one-to-one map: " + std::to_string(metrics.flipped_faces) +
-                                " faces stay flipped or degenerate even with a circle boundary and "
-                                "uniform weights (the mesh has near-degenerate triangles)");
-  report.l2_stretch_linear = metrics.l2;
 
-  if (options.stretch_iterations > 0) {
-    // One deadline for the three loops (reweighting, ARAP, Newton); each loop has its own
-    // budget object, which records why it stopped and how long its last step took.
-    const auto refine_start = Clock::now();
-    double budget_seconds = std::numeric_limits<double>::infinity();
-    if (options.refine_time_factor > 0) {
-      const double linear = std::chrono::duration<double>(refine_start - run_start).count();
-      budget_seconds = std::max(options.refine_min_seconds, options.refine_time_factor * linear);
-    }
-    auto newBudget = [&] {
-      RefineBudget budget;
-      budget.min_gain = options.refine_min_gain;
-      if (std::isfinite(budget_seconds))
-        budget.deadline = refine_start + std::chrono::duration_cast<Clock::duration>(
-                                             std::chrono::duration<double>(budget_seconds));
-      return budget;
-    };
-    RefineStop stop = RefineStop::Iterations;
-    auto note = [&](const RefineBudget& budget) {
-      if (budget.stop == RefineStop::TimeBudget || stop != RefineStop::TimeBudget)
-        stop = budget.stop == RefineStop::NotRun ? RefineStop::Iterations : budget.stop;
-    };
+  // Why refinement ended: the time budget wins when any loop ran out of time.
+  void noteStop(const RefineBudget& budget) {
+    if (budget.stop == RefineStop::TimeBudget || stop_ != RefineStop::TimeBudget)
+      stop_ = budget.stop == RefineStop::NotRun ? RefineStop::Iterations : budget.stop;
+  }
 
+  // Yoshizawa-Belyaev-Seidel reweighting on the fixed boundary, each step a linear solve.
+  void reweight(const RefineBudget& budget) {
     // eta 0.5 reaches the lowest stretch in 5-10 steps, eta 1 gets most of the way in 2-3
     // (face.off, fixed boundary: L2 1.41 after 2 steps against 1.78). When the budget affords
     // fewer than 6 steps (each costs about the linear solve), the faster one is used.
-    double eta = options.stretch_exponent;
-    const double solve_seconds = clock.seconds("solve");
-    if (std::isfinite(budget_seconds) && solve_seconds > 0 &&
-        budget_seconds < kFewRefinementSteps * solve_seconds)
+    double eta = options_.stretch_exponent;
+    const double solve_seconds = clock_.seconds("solve");
+    if (std::isfinite(budget_seconds_) && solve_seconds > 0 &&
+        budget_seconds_ < kFewRefinementSteps * solve_seconds)
       eta = std::max(eta, kFastStretchExponent);
 
-    clock.begin("refine", 85);
-    const RefineBudget reweighting = newBudget();
-    std::vector<double> refined = weights;
-    StretchMetrics current = metrics;
-    for (int it = 1; it <= options.stretch_iterations; ++it) {
-      if (options.progress &&
-          !options.progress("refine", 85 + 10 * it / options.stretch_iterations))
-        throw ParameterizationError("cancelled by the user");
-      if (it > 1 && reweighting.expired()) break;
+    clock_.begin("refine", Stage::Refine);
+    std::vector<double> refined = weights_;
+    StretchMetrics current = metrics_;
+    const int steps = options_.stretch_iterations;
+    for (int it = 1; it <= steps; ++it) {
+      progress_.report(Stage::Refine, it, steps);
+      if (it > 1 && budget.expired()) break;
       const auto iteration_start = Clock::now();
-      reweightByStretch(patch, current.vertex_l2, eta, refined);
+      reweightByStretch(patch_, current.vertex_l2, eta, refined);
       LocalUVs candidate;
       do {
-        candidate = solver.solve(refined, boundary);
-        current = stretchMetrics(patch, candidate);
-      } while (current.flipped_faces > 0 && solver.tighten());
-      report.stretch_iterations_run = it;
-      reweighting.step_seconds =
-          std::chrono::duration<double>(Clock::now() - iteration_start).count();
+        candidate = solver_->solve(refined, boundary_);
+        current = stretchMetrics(patch_, candidate);
+      } while (current.flipped_faces > 0 && solver_->tighten());
+      report().stretch_iterations_run = it;
+      budget.step_seconds = std::chrono::duration<double>(Clock::now() - iteration_start).count();
       if (current.flipped_faces > 0) break;  // numerically folded: keep the best so far
-      const bool gained = reweighting.gained(metrics.l2, current.l2);
-      if (current.l2 < metrics.l2) {
-        metrics = current;
-        uv.swap(candidate);
-        report.best_iteration = it;
+      const bool gained = budget.gained(metrics_.l2, current.l2);
+      if (current.l2 < metrics_.l2) {
+        metrics_ = current;
+        uv_.swap(candidate);
+        report().best_iteration = it;
       }
       if (!gained) break;
     }
-    note(reweighting);
-    clock.end();
-    report.l2_stretch_fixed_boundary = metrics.l2;
-    // Only the measured boundary is let go: it stands for the patch's own outline, which this
-    // refines; a circle or square is a shape the user asked for (and it stays after a fallback
-    // from measured to circle, where letting go helps most).
-    if (options.free_boundary && options.boundary == BoundaryShape::Measured) {
-      if (options.progress && !options.progress("free boundary", 95))
-        throw ParameterizationError("cancelled by the user");
-      clock.begin("free_boundary", 95);
-      FreeBoundaryCounts counts;
-      const RefineBudget arap = newBudget();
-      // The first ARAP step with its setup costs about three reweighting solves (2.5x measured
-      // at 1.65M vertices): not started when that would overrun the deadline.
-      arap.step_seconds = 3 * reweighting.step_seconds;
-      uv = relaxWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, counts,
-                                 options.progress, arap);
-      note(arap);
-      // Then Newton steps on the L2 stretch itself: they go on where ARAP's optimum folds.
-      StretchNewtonCounts newton;
-      const RefineBudget newton_budget = newBudget();
-      uv = minimizeStretchWithFreeBoundary(patch, uv, options.stretch_iterations, metrics, newton,
-                                           options.progress, newton_budget);
-      note(newton_budget);
-      report.free_boundary_steps = counts.steps_taken + newton.steps_taken;
-      clock.end();
-    }
-    report.refinement_stop = refineStopName(stop);
+    clock_.end();
   }
 
-  report.boundary_used = boundaryShapeName(shape);
-  report.source_vertex = shape == BoundaryShape::Measured ? patch.input_vertex[source] : -1;
-  report.straightest_to_ltd = weight_counts.straightest_to_ltd;
-  report.degenerate_rings = weight_counts.degenerate_rings;
-  report.walk_fallbacks = measured_counts.walk_failures + measured_counts.walk_detours;
-  report.ears_unfolded = shape == BoundaryShape::Measured ? measured_counts.ears_unfolded : 0;
-  report.fallbacks = report.straightest_to_ltd + report.degenerate_rings + report.walk_fallbacks +
-                     report.boundary_fallbacks;
-  if (report.straightest_to_ltd > 0)
-    report.warnings.push_back(std::to_string(report.straightest_to_ltd) +
-                              " neighbours used the LTD direction (their cutting plane crossed no "
-                              "far-side edge)");
-  if (report.degenerate_rings > 0)
-    report.warnings.push_back(std::to_string(report.degenerate_rings) +
-                              " vertices with a degenerate 1-ring used uniform weights");
-  if (report.walk_fallbacks > 0)
-    report.warnings.push_back(std::to_string(report.walk_fallbacks) +
-                              " boundary distances used the edge-graph distance (plane walk failed "
-                              "or wandered)");
-
-  // The map as the front end stores it: in its frame, rounded, repaired where rounding would
-  // degenerate a face (storage.h); the report then describes exactly those UVs.
-  clock.begin("storage", 98);
-  for (auto& p : uv) p *= patch.unit;
-  if (options.fit_unit_square) fitUnitSquare(patch, uv);
-  const StorageCounts storage = roundForStorage(patch, uv, options.storage);
-  if (options.fit_unit_square || options.storage != UVStorage::Double) {
-    metrics = stretchMetrics(patch, uv);
-    if (metrics.flipped_faces > 0)
-      throw ParameterizationError("internal error: the stored map has flipped faces");
+  // ARAP steps, then Newton steps on the L2 stretch itself: they go on where ARAP's optimum
+  // folds.
+  void freeBoundary(const RefineBudget& reweighting) {
+    progress_.report(Stage::FreeBoundary);
+    clock_.begin("free_boundary", Stage::FreeBoundary);
+    FreeBoundaryCounts counts;
+    const RefineBudget arap = newBudget();
+    // The first ARAP step with its setup costs about three reweighting solves (2.5x measured
+    // at 1.65M vertices): not started when that would overrun the deadline.
+    arap.step_seconds = 3 * reweighting.step_seconds;
+    uv_ = relaxWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_, counts,
+                                progress_, arap);
+    noteStop(arap);
+    StretchNewtonCounts newton;
+    const RefineBudget newton_budget = newBudget();
+    uv_ = minimizeStretchWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_,
+                                          newton, progress_, newton_budget);
+    noteStop(newton_budget);
+    report().free_boundary_steps = counts.steps_taken + newton.steps_taken;
+    clock_.end();
   }
-  report.storage = uvStorageName(options.storage);
-  report.storage_degenerate_faces = storage.degenerate_faces;
-  report.storage_moved_vertices = storage.moved_vertices;
-  // Repaired, so not a warning: the stored map is one-to-one.
-  if (storage.degenerate_faces > 0)
-    report.notes.push_back("stored one-to-one: " + std::to_string(storage.degenerate_faces) +
-                           " faces would have collapsed when rounded to " + report.storage +
-                           " texture coordinates; " + std::to_string(storage.moved_vertices) +
-                           " vertices moved");
-  clock.end();
-  report.l2_stretch = metrics.l2;
-  report.linf_stretch = metrics.linf;
-  report.flipped_faces = metrics.flipped_faces;
 
-  result.uv = UVs::Zero(V.rows(), 2);
-  for (int v = 0; v < patch.real_vertex_count; ++v)
-    result.uv.row(patch.input_vertex[v]) = uv[v].transpose();
-  result.face_stretch = std::move(metrics.face_l2);
-  report.seconds = std::chrono::duration<double>(Clock::now() - run_start).count();
-  if (options.progress) options.progress("done", 100);
-  return result;
+  const Clock::time_point run_start_ = Clock::now();
+  const Positions& V_;
+  const Options& options_;
+  Result result_;
+  Progress progress_;
+  StageClock clock_;
+  Patch patch_;
+  BoundaryShape shape_ = BoundaryShape::Measured;
+  int source_ = -1;
+  Polygon boundary_;
+  MeasuredCounts measured_counts_;
+  WeightCounts weight_counts_;
+  std::vector<double> weights_;
+  std::optional<InteriorSolver> solver_;
+  LocalUVs uv_;
+  StretchMetrics metrics_;
+  Clock::time_point refine_start_;
+  double budget_seconds_ = std::numeric_limits<double>::infinity();
+  RefineStop stop_ = RefineStop::Iterations;
+};
+
+Result parameterizeChecked(const Positions& V, const Triangles& F, const Options& options) {
+  Pipeline run(V, options);
+  run.topology(F);
+  run.weightsAndBoundary();
+  run.solveOneToOne();
+  run.refine();
+  run.countFallbacks();
+  run.store();
+  return run.finish();
 }
 
 }  // namespace

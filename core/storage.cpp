@@ -1,4 +1,5 @@
 #include "storage.h"
+#include "geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -53,11 +54,6 @@ class Rounding {
  private:
   UVStorage storage_;
 };
-
-double signedArea(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  const Eigen::Vector2d u = b - a, v = c - a;
-  return 0.5 * (u.x() * v.y() - u.y() * v.x());
-}
 
 class StoredMap {
  public:

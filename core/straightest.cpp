@@ -1,4 +1,5 @@
 #include "straightest.h"
+#include "geometry.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -87,8 +88,8 @@ RingExit equalAngleExit(const Ring& ring, int j) {
   const Eigen::Vector2d dir(std::cos(alpha), std::sin(alpha));
   // Solve A + s (B - A) = r dir for s: cross both sides with dir.
   const Eigen::Vector2d ab = B - A;
-  const double denom = ab.x() * dir.y() - ab.y() * dir.x();
-  double s = denom != 0 ? -(A.x() * dir.y() - A.y() * dir.x()) / denom : 0.0;
+  const double denom = cross2(ab, dir);
+  double s = denom != 0 ? -cross2(A, dir) / denom : 0.0;
   s = std::clamp(s, 0.0, 1.0);
   return {a, s, (A + s * ab).norm()};
 }

@@ -7,9 +7,12 @@
 #include <cmath>
 #include <limits>
 #include <new>
+#include <optional>
 
+#include "checked_descent.h"
 #include "error.h"
 #include "free_boundary.h"
+#include "geometry.h"
 
 namespace sdp {
 namespace {
@@ -76,9 +79,7 @@ Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const 
 // The largest t for which no face's signed UV area reaches zero along uv + t d.
 double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d) {
   double limit = std::numeric_limits<double>::infinity();
-  auto cross = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
-    return x.x() * y.y() - x.y() * y.x();
-  };
+  const auto cross = cross2;
   for (int f = 0; f < patch.real_face_count; ++f) {
     const auto& t = patch.face[f];
     const Eigen::Vector2d p0 = uv[t[1]] - uv[t[0]], p1 = uv[t[2]] - uv[t[0]];
@@ -106,8 +107,7 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
 
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                          StretchMetrics& metrics, StretchNewtonCounts& counts,
-                                         const ProgressCallback& progress,
-                                         const RefineBudget& budget) {
+                                         const Progress& progress, const RefineBudget& budget) {
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
@@ -116,16 +116,9 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     return uv;
   }
   if (budget.expired()) return uv;
-  LocalUVs best;  // filled inside the try: its allocation may fail too
+  std::optional<CheckedDescent> descent;  // made inside the try: its allocations may fail too
   try {
-    best = uv;
-    double total_area = 0;
-    for (int f = 0; f < faces; ++f) {
-      const auto& t = patch.face[f];
-      total_area += 0.5 * (patch.position[t[1]] - patch.position[t[0]])
-                              .cross(patch.position[t[2]] - patch.position[t[0]])
-                              .norm();
-    }
+    const double total_area = patchArea3d(patch);
     if (!(total_area > 0)) return uv;
     std::vector<FaceFrame> frames(faces);
     for (int f = 0; f < faces; ++f) frames[f] = faceFrame(patch, f, 1e-14 * total_area);
@@ -142,23 +135,20 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
       e.S = total_area;
       return true;
     };
-    LocalUVs current = uv;
+    descent.emplace(patch, uv, metrics, budget, progress, Stage::Newton);
+    LocalUVs& current = descent->current();  // the best map stays `uv` until a step beats it
     Energy energy = energyOf(patch, frames, current);
     if (!rescale(current, energy)) return uv;
 
-    const std::vector<BorderEdge> border = boundaryEdges(patch);
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor;
     bool analyzed = false;
     std::vector<Eigen::Triplet<double>> entries;
     Eigen::SparseMatrix<double> H(2 * n, 2 * n);
     Eigen::VectorXd gradient(2 * n), direction(2 * n);
-    LocalUVs step(current.size(), Eigen::Vector2d::Zero()), candidate = current;
+    LocalUVs step(current.size(), Eigen::Vector2d::Zero());
 
     for (int it = 0; it < steps; ++it) {
-      if (progress && !progress("free boundary", 97 + 2 * it / steps))
-        throw ParameterizationError("cancelled by the user");
-      if (budget.expired()) break;
-      const auto step_start = RefineBudget::Clock::now();
+      if (!descent->beginStep(it, steps)) break;
       // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature and
       // the cross terms dQ dS^T are left out, as the energy is scale-invariant and each step is
       // rescaled: a positive definite approximation, so the step still descends).
@@ -236,48 +226,36 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         }
       }
       for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
-      // The factorization is most of a step's time.
-      budget.step_seconds =
-          std::chrono::duration<double>(RefineBudget::Clock::now() - step_start).count();
+      descent->recordStepTime();  // the factorization is most of a step's time
 
-      // Capped short of the first collapse, then halved until the energy drops enough and
-      // the map passes the one-to-one checks.
-      double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
-      bool taken = false;
-      for (int halvings = 0; halvings <= 30 && !taken; ++halvings, length *= 0.5) {
-        for (int v = 0; v < n; ++v) candidate[v] = current[v] + length * step[v];
-        Energy trial = energyOf(patch, frames, candidate);
-        if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) continue;
-        // Checked at the scale it is returned at.
-        if (!rescale(candidate, trial)) continue;
-        if (flippedFaceCount(patch, candidate) > 0 || !edgesAreSimple(border, candidate)) continue;
-        StretchMetrics measured = stretchMetrics(patch, candidate);
-        if (measured.flipped_faces > 0) continue;
-        taken = true;
-        ++counts.steps_taken;
-        current.swap(candidate);
-        const double before = energy.value();
-        energy = trial;
-        const bool gained = budget.gained(metrics.l2, measured.l2);
-        if (measured.l2 < metrics.l2) {
-          metrics = std::move(measured);
-          best = current;
-        }
-        if (!gained) return best;
-        if (!(energy.value() < before * (1 - 1e-9))) {
-          counts.stopped = true;  // converged as far as doubles tell
-          return best;
-        }
-      }
-      if (!taken) {
+      // Capped short of the first collapse, then halved until the energy drops enough; the
+      // map is checked at the scale it is returned at.
+      Energy trial;
+      const auto sufficientDecrease = [&](LocalUVs& candidate, double length) {
+        trial = energyOf(patch, frames, candidate);
+        if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) return false;
+        return rescale(candidate, trial);
+      };
+      const double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
+      const CheckedDescent::Outcome outcome =
+          descent->tryStep(step, length, 30, sufficientDecrease);
+      if (!outcome.taken) {
         counts.stopped = true;
         break;
       }
+      ++counts.steps_taken;
+      const double before = energy.value();
+      energy = trial;
+      if (!outcome.gained) break;
+      if (!(energy.value() < before * (1 - 1e-9))) {
+        counts.stopped = true;  // converged as far as doubles tell
+        break;
+      }
     }
-    return best;
+    return descent->takeBest();
   } catch (const std::bad_alloc&) {
     counts.skipped = true;  // the factor did not fit: keep the best map so far
-    return best.empty() ? uv : best;
+    return descent ? descent->takeBest() : uv;
   }
 }
 

@@ -21,6 +21,7 @@
 #include "metrics.h"
 #include "options.h"
 #include "patch.h"
+#include "progress.h"
 #include "refine_budget.h"
 #include "solve.h"
 
@@ -36,10 +37,11 @@ struct StretchNewtonCounts {
 
 // Up to `steps` Newton steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the
 // map with the lowest L2 stretch seen (the start if none is lower) and its metrics in `metrics`.
-// Virtual hole-fill vertices keep their positions. `progress` as in relaxWithFreeBoundary.
+// Virtual hole-fill vertices keep their positions. `progress` as in relaxWithFreeBoundary
+// (Stage::Newton).
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                          StretchMetrics& metrics, StretchNewtonCounts& counts,
-                                         const ProgressCallback& progress = {},
+                                         const Progress& progress = Progress(),
                                          const RefineBudget& budget = {});
 
 }  // namespace sdp

@@ -1,4 +1,5 @@
 #include "weights.h"
+#include "geometry.h"
 
 #include "parallel.h"
 
@@ -23,9 +24,7 @@ bool floaterWeights(const Ring& ring, double* w) {
   for (int k = 0; k < n; ++k)
     p[k] = (ring.neighbour[k] - ring.center).norm() *
            Eigen::Vector2d(std::cos(phi[k]), std::sin(phi[k]));
-  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() * b.y() - a.y() * b.x();
-  };
+  const auto cross = cross2;
   for (int j = 0; j < n; ++j) {
     double opposite = phi[j] + kPi;
     if (opposite >= 2 * kPi) opposite -= 2 * kPi;

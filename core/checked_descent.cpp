@@ -1,0 +1,57 @@
+#include "checked_descent.h"
+
+#include <chrono>
+#include <utility>
+
+namespace sdp {
+
+CheckedDescent::CheckedDescent(const Patch& patch, const LocalUVs& start, StretchMetrics& metrics,
+                               const RefineBudget& budget, const Progress& progress, Stage stage)
+    : patch_(patch),
+      metrics_(metrics),
+      budget_(budget),
+      progress_(progress),
+      stage_(stage),
+      border_(boundaryEdges(patch)),
+      current_(start),
+      candidate_(start),
+      best_(start) {}
+
+bool CheckedDescent::beginStep(int step, int steps) {
+  progress_.report(stage_, step, steps);
+  if (budget_.expired()) return false;
+  step_start_ = RefineBudget::Clock::now();
+  return true;
+}
+
+void CheckedDescent::recordStepTime() const {
+  budget_.step_seconds =
+      std::chrono::duration<double>(RefineBudget::Clock::now() - step_start_).count();
+}
+
+CheckedDescent::Outcome CheckedDescent::tryStep(
+    const LocalUVs& direction, double length, int max_halvings,
+    const std::function<bool(LocalUVs& candidate, double length)>& admit) {
+  const int n = patch_.real_vertex_count;
+  Outcome outcome;
+  candidate_ = current_;  // the entries no step moves (hole fills) as in current()
+  for (int halvings = 0; halvings <= max_halvings; ++halvings, length *= 0.5) {
+    for (int v = 0; v < n; ++v) candidate_[v] = current_[v] + length * direction[v];
+    if (admit && !admit(candidate_, length)) continue;
+    if (flippedFaceCount(patch_, candidate_) > 0 || !edgesAreSimple(border_, candidate_)) continue;
+    StretchMetrics measured = stretchMetrics(patch_, candidate_);
+    if (measured.flipped_faces > 0) continue;  // the same rule; kept as the last word
+    outcome.taken = true;
+    outcome.halvings = halvings;
+    current_.swap(candidate_);
+    outcome.gained = budget_.gained(metrics_.l2, measured.l2);
+    if (measured.l2 < metrics_.l2) {
+      metrics_ = std::move(measured);
+      best_ = current_;
+    }
+    break;
+  }
+  return outcome;
+}
+
+}  // namespace sdp

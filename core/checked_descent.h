@@ -1,0 +1,60 @@
+// The skeleton both free-boundary refinements share (free_boundary.h's as-rigid-as-possible
+// steps, stretch_newton.h's Newton steps), written once: each step asks for progress and the
+// time budget, proposes a direction, and is then tried at decreasing lengths until the map stays
+// one-to-one (no face flipped or collapsed, the boundary not crossing itself) and passes the
+// method's own test; the map with the lowest L2 stretch is kept. Virtual hole-fill vertices
+// (index >= real_vertex_count) never move.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "free_boundary.h"
+#include "metrics.h"
+#include "patch.h"
+#include "progress.h"
+#include "refine_budget.h"
+#include "solve.h"
+
+namespace sdp {
+
+class CheckedDescent {
+ public:
+  // `start` is one-to-one with its metrics in `metrics`, which follows the best map.
+  CheckedDescent(const Patch& patch, const LocalUVs& start, StretchMetrics& metrics,
+                 const RefineBudget& budget, const Progress& progress, Stage stage);
+
+  // Before step `step` of `steps`: reports progress (throws when the user cancels) and returns
+  // false when the time budget has no room for another step. Starts the step's clock.
+  bool beginStep(int step, int steps);
+  // The step's time so far becomes the budget's prediction for the next one.
+  void recordStepTime() const;
+
+  struct Outcome {
+    bool taken = false;   // a length passed every check; current() moved
+    int halvings = 0;     // how often the length was halved before that
+    bool gained = false;  // it lowered the best L2 by the budget's minimum gain
+  };
+  // Tries current() + length * direction for length, length / 2, ... (`max_halvings` halvings at
+  // most). `admit` (may be empty) is the method's own test, run first; it may change the
+  // candidate (e.g. rescale it). Only the first real_vertex_count entries of `direction` count.
+  Outcome tryStep(const LocalUVs& direction, double length, int max_halvings,
+                  const std::function<bool(LocalUVs& candidate, double length)>& admit = {});
+
+  const LocalUVs& current() const { return current_; }
+  LocalUVs& current() { return current_; }  // for a method's own rescaling of the start
+  // The map with the lowest L2 seen (its metrics in `metrics`); the start if none was lower.
+  LocalUVs takeBest() { return std::move(best_); }
+
+ private:
+  const Patch& patch_;
+  StretchMetrics& metrics_;
+  const RefineBudget& budget_;
+  const Progress& progress_;
+  Stage stage_;
+  std::vector<BorderEdge> border_;  // the same for every check
+  LocalUVs current_, candidate_, best_;
+  RefineBudget::Clock::time_point step_start_;
+};
+
+}  // namespace sdp

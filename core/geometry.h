@@ -1,0 +1,48 @@
+// The small geometry every stage uses, written once.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "patch.h"
+
+namespace sdp {
+
+// The z of (a, 0) x (b, 0): twice the signed area of the triangle 0, a, b.
+inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Signed area of the triangle abc: positive when counter-clockwise.
+inline double signedArea(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                         const Eigen::Vector2d& c) {
+  return 0.5 * cross2(b - a, c - a);
+}
+
+// The 3D area of face f.
+inline double faceArea3d(const Patch& patch, int f) {
+  const auto& t = patch.face[f];
+  return 0.5 * (patch.position[t[1]] - patch.position[t[0]])
+                   .cross(patch.position[t[2]] - patch.position[t[0]])
+                   .norm();
+}
+
+// The 3D area of the real faces (the user's, not the virtual hole fills).
+inline double patchArea3d(const Patch& patch) {
+  double area = 0;
+  for (int f = 0; f < patch.real_face_count; ++f) area += faceArea3d(patch, f);
+  return area;
+}
+
+// The signed UV area of the real faces.
+inline double patchAreaUV(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
+  double area = 0;
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    const auto& t = patch.face[f];
+    area += signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
+  }
+  return area;
+}
+
+}  // namespace sdp
