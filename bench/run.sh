@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One command for every benchmark table and plot in the README:
 #   bash bench/run.sh            quality tables, paper Table 1, scaling (CGAL up to 1.65M vertices),
-#                                the defaults against the linear map and SLIM (~15 min)
+#                                the defaults against the linear map and SLIM, the mesh readers
+#                                against vcglib's (~20 min)
 #   bash bench/run.sh --quick    small meshes only (a smoke run, a few minutes)
 # Results go to bench/results/ (Markdown, CSV, PNG) and into the README between bench markers.
 set -euo pipefail
@@ -11,11 +12,13 @@ bash scripts/install-deps.sh
 .venv/bin/python -m pip install --disable-pip-version-check -q matplotlib
 build_dir="${SDP_BUILD_DIR:-$repo_dir/build}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_cgal_peer straightest_param
+cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_cgal_peer straightest_param sdp_reader_bench
 .venv/bin/python bench/run.py --build-dir "$build_dir" "$@"
 # What a user gets by default (refined), against the linear map and SLIM (README *Defaults*).
 if [[ "${1:-}" == "--quick" ]]; then
   .venv/bin/python bench/defaults.py --build "$build_dir"
 else
   .venv/bin/python bench/defaults.py --build "$build_dir" --scaling --readme README.md
+  # Our mesh readers against vcglib's importers (README *Reading mesh files*).
+  .venv/bin/python bench/readers.py --build "$build_dir" --readme README.md
 fi

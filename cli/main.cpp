@@ -307,24 +307,15 @@ int main(int argc, char** argv) {
       case Action::Run:
         break;
     }
-  } catch (const UsageError& e) {
-    printFailure(e.what());
-    return kExitUsage;
-  } catch (const std::exception& e) {
-    printFailure(e.what());
+  } catch (...) {
+    printFailure(sdp::filter::currentFailureReason());
     return kExitUsage;
   }
 
   try {
     return run(args);
-  } catch (const sdp::ParameterizationError& e) {
-    printFailure(e.what());
-  } catch (const std::bad_alloc&) {
-    printFailure("out of memory");
-  } catch (const std::exception& e) {
-    printFailure(e.what());
   } catch (...) {
-    printFailure("unknown error");
+    printFailure(sdp::filter::currentFailureReason());
   }
   return kExitFailure;
 }

@@ -1,7 +1,9 @@
 #include "filter_definition.h"
 
 #include <cstdio>
+#include <exception>
 #include <limits>
+#include <new>
 
 #include "core/error.h"
 
@@ -193,6 +195,18 @@ sdp::Options toOptions(const FilterValues& values) {
   options.free_boundary = !values.fixed_boundary;
   options.outer_boundary_vertex = values.outer_vertex;
   return options;
+}
+
+std::string currentFailureReason() {
+  try {
+    throw;
+  } catch (const std::bad_alloc&) {
+    return "not enough memory";
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "unknown error";
+  }
 }
 
 namespace {

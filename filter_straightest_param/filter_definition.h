@@ -86,6 +86,11 @@ sdp::Options toOptions(const FilterValues& values);
 std::vector<std::string> reportLines(const sdp::Report& report,
                                      const std::vector<std::string>& notes = {});
 
+// The one-line reason for the exception being handled (call it inside a catch block): its
+// what(), "not enough memory" for std::bad_alloc, "unknown error" for anything else. Every front
+// end words its failures so.
+std::string currentFailureReason();
+
 // The README's tables in Markdown, generated from the tables above (tests/docs checks that the
 // README holds them): "parameters" and "report".
 std::string markdownTable(const std::string& which);

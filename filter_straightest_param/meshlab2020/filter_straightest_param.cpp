@@ -82,12 +82,8 @@ bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
     Log("texture %s", qUtf8Printable(done.texture.path));
     if (cb != nullptr) cb(100, "straightest distances: done\n");
     return true;
-  } catch (const std::bad_alloc&) {
-    fail("not enough memory");
-  } catch (const std::exception& e) {
-    fail(e.what());
   } catch (...) {
-    fail("unknown error");
+    fail(sdp::filter::currentFailureReason());
   }
   return false;
 }

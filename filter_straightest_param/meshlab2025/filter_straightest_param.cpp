@@ -98,12 +98,8 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
     return values;
   } catch (const MLException&) {
     throw;
-  } catch (const std::bad_alloc&) {
-    reason = "not enough memory";
-  } catch (const std::exception& e) {
-    reason = e.what();
   } catch (...) {
-    reason = "unknown error";
+    reason = sdp::filter::currentFailureReason();
   }
   log(GLLogStream::WARNING, "%s: %s", sdp::filter::kFilterName, reason.c_str());
   throw MLException(QString::fromStdString(reason));
