@@ -127,6 +127,18 @@ inline CheckerTexture writeCheckerTexture(const QString& mesh_file, const std::s
   throw sdp::ParameterizationError("cannot write the texture " + t.name.toStdString());
 }
 
+// MeshLab's progress callback (vcg::CallBackPos, may be null) as the core's, each stage worded
+// prefix + stage + suffix. MeshLab's callbacks cannot cancel reliably (meshlabserver's always
+// says "go on"), so the run is never cancelled from here.
+template <class CallBackPos>
+sdp::ProgressCallback progressTo(CallBackPos* cb, std::string prefix, std::string suffix) {
+  if (cb == nullptr) return {};
+  return [cb, prefix, suffix](const char* stage, int percent) {
+    cb(percent, (prefix + stage + suffix).c_str());
+    return true;
+  };
+}
+
 struct MeshModelRun {
   vcg_adapter::MeshRun run;  // its report describes the UVs as the mesh now holds them
   CheckerTexture texture;    // written, not yet attached

@@ -61,15 +61,8 @@ bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
 
-    sdp::ProgressCallback progress;
-    if (cb != nullptr) {
-      // meshlabserver prints the text as is: one line per stage. MeshLab's callbacks cannot
-      // cancel reliably (meshlabserver's always says "go on"), so the run is never cancelled.
-      progress = [cb](const char* stage, int percent) {
-        cb(percent, ("straightest distances: " + std::string(stage) + "\n").c_str());
-        return true;
-      };
-    }
+    // meshlabserver prints the text as is: one line per stage.
+    const auto progress = sdp::meshlab::progressTo(cb, "straightest distances: ", "\n");
     const auto done = sdp::meshlab::parameterizeMeshModel(*mm, parameters, progress);
 
     // 2020.09 loads cm.textures relative to the process's current folder (not the mesh's), so

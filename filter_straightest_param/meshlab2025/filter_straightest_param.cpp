@@ -68,14 +68,7 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
 
-    sdp::ProgressCallback progress;
-    if (cb != nullptr) {
-      // MeshLab's callbacks cannot cancel reliably, so the run is never cancelled from here.
-      progress = [cb](const char* stage, int percent) {
-        cb(percent, stage);
-        return true;
-      };
-    }
+    const auto progress = sdp::meshlab::progressTo(cb, "", "");
     const auto done = sdp::meshlab::parameterizeMeshModel(*mm, parameters, progress);
 
     // 2025.07 keeps the image in memory under its file name; saving the mesh writes it beside

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import stretch
-from conftest import BOUNDARIES, DISK_MESHES, FILTER, INVALID_MESHES, WEIGHTS
+from conftest import BOUNDARIES, DISK_MESHES, FILTER, INVALID_MESHES, WEIGHTS, run_guarded
 
 REPORT_KEYS = {"l2_stretch", "linf_stretch", "flipped_faces", "fallbacks", "source_vertex",
                "seconds"}
@@ -24,7 +24,7 @@ def load_copy(ml, mesh_path, folder):
 
 
 def run_filter(ms, **parameters):
-    return getattr(ms, FILTER)(**parameters)
+    return run_guarded(ms, **parameters)
 
 
 @pytest.mark.parametrize("boundary", list(BOUNDARIES))

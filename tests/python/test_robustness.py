@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import stretch
-from conftest import BOUNDARIES, FILTER, PLUGIN, WEIGHTS
+from conftest import BOUNDARIES, FILTER, PLUGIN, WEIGHTS, run_guarded
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "robustness"))
 import meshgen  # noqa: E402
@@ -41,32 +41,9 @@ def mesh_set(ml, mesh, name="case"):
     return ms
 
 
-# Upstream PyMeshLab issue #399: after a filter raises, pymeshlab's loggers point into the log of
-# the MeshSet that ran it until a filter succeeds, so the next load into a new MeshSet writes into
-# freed memory (seen here as SIGSEGV or std::bad_alloc from load_new_mesh). These cases refuse on
-# purpose, one after another, so they do what the pip package's bound method does (see
-# python/pymeshlab_straightest): keep refused MeshSets alive and let a trivial filter succeed.
-_refused_mesh_sets = []
-
-
-def _reset_pymeshlab_logging(ml):
-    scratch = ml.MeshSet()
-    scratch.add_mesh(ml.Mesh(vertex_matrix=np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]),
-                             face_matrix=np.array([[0, 1, 2]], dtype=np.int32)))
-    scratch.apply_filter("set_selection_none")
-
-
 def run_filter(ms, **parameters):
-    import pymeshlab
     parameters.setdefault("texturename", "robustness_checker.png")
-    try:
-        report = getattr(ms, FILTER)(**parameters)
-    except BaseException:
-        _refused_mesh_sets.append(ms)
-        _reset_pymeshlab_logging(pymeshlab)
-        raise
-    _refused_mesh_sets.clear()
-    return report
+    return run_guarded(ms, **parameters)
 
 
 def snapshot(mesh):
