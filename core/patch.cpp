@@ -22,15 +22,15 @@ struct HalfEdge {
 using PositionMatrix = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using TriangleMatrix = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-// The whole check and build. With `all_loops` given and more than one boundary loop, it stops
-// after finding the loops (as input vertex indices) and returns an incomplete patch.
-Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
-                   std::vector<std::vector<int>>* all_loops) {
+std::string inputName(const Patch& p, int local) {
+  return std::to_string(p.input_vertex[local]);
+}
+
+// Every face names three distinct vertices of the mesh; the referenced vertices, with finite
+// coordinates, become the patch's, in input order so results map back by index.
+void compactVertices(const PositionMatrix& V, const TriangleMatrix& F, Patch& p) {
   const int input_vertices = static_cast<int>(V.rows());
   const int faces = static_cast<int>(F.rows());
-  if (faces == 0) fail("the mesh has no faces");
-
-  Patch p;
   p.local_vertex.assign(input_vertices, -1);
   p.face.resize(faces);
   for (int f = 0; f < faces; ++f) {
@@ -56,59 +56,75 @@ Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
   }
   for (int f = 0; f < faces; ++f)
     for (int c = 0; c < 3; ++c) p.face[f][c] = p.local_vertex[F(f, c)];
-  const int n = p.vertexCount();
-  // Centre the coordinates and bring the largest extent to 1: a scan far from the origin would
-  // lose digits in every difference, and one in nanometres or light years would underflow or
-  // overflow in areas and products. The results are similarity-invariant anyway.
-  {
-    Eigen::Vector3d low = p.position[0], high = p.position[0];
-    for (const auto& q : p.position) low = low.cwiseMin(q), high = high.cwiseMax(q);
-    const Eigen::Vector3d centre = 0.5 * low + 0.5 * high;
-    const double extent = (0.5 * high - 0.5 * low).maxCoeff() * 2;
-    if (!std::isfinite(extent))
-      fail("the coordinates are too large to compute with (their range overflows)");
-    // The map is returned in the mesh's units (UV area = 3D area), so its areas must stay
-    // normal doubles: a mesh spanning 1e290 units would give infinite UV areas.
-    constexpr double kLargestExtent = 1e100, kSmallestExtent = 1e-100;
-    if (extent > kLargestExtent || (extent > 0 && extent < kSmallestExtent)) {
-      char numbers[128];
-      std::snprintf(numbers, sizeof numbers,
-                    "the mesh spans %.3g units; 1e-100 to 1e100 are supported (areas in its "
-                    "units would leave the double range)",
-                    extent);
-      fail(numbers);
-    }
-    p.unit = extent > 0 ? extent : 1.0;
-    for (auto& q : p.position) q = (q - centre) / p.unit;
-  }
-  auto inputName = [&](int local) { return std::to_string(p.input_vertex[local]); };
+}
 
-  // Outgoing half-edges per vertex, sorted by target so twins are found by binary search and
-  // repeated edges sit side by side.
-  std::vector<int> out_begin(n + 1, 0);
-  for (const auto& t : p.face)
-    for (int c = 0; c < 3; ++c) ++out_begin[t[c] + 1];
-  for (int v = 0; v < n; ++v) out_begin[v + 1] += out_begin[v];
-  std::vector<HalfEdge> out(out_begin[n]);
-  {
-    std::vector<int> fill(out_begin.begin(), out_begin.end() - 1);
-    for (int f = 0; f < faces; ++f)
-      for (int c = 0; c < 3; ++c) out[fill[p.face[f][c]]++] = {p.face[f][(c + 1) % 3], f};
+// Centre the coordinates and bring the largest extent to 1: a scan far from the origin would
+// lose digits in every difference, and one in nanometres or light years would underflow or
+// overflow in areas and products. The results are similarity-invariant anyway.
+void normalizeFrame(Patch& p) {
+  Eigen::Vector3d low = p.position[0], high = p.position[0];
+  for (const auto& q : p.position) low = low.cwiseMin(q), high = high.cwiseMax(q);
+  const Eigen::Vector3d centre = 0.5 * low + 0.5 * high;
+  const double extent = (0.5 * high - 0.5 * low).maxCoeff() * 2;
+  if (!std::isfinite(extent))
+    fail("the coordinates are too large to compute with (their range overflows)");
+  // The map is returned in the mesh's units (UV area = 3D area), so its areas must stay
+  // normal doubles: a mesh spanning 1e290 units would give infinite UV areas.
+  constexpr double kLargestExtent = 1e100, kSmallestExtent = 1e-100;
+  if (extent > kLargestExtent || (extent > 0 && extent < kSmallestExtent)) {
+    char numbers[128];
+    std::snprintf(numbers, sizeof numbers,
+                  "the mesh spans %.3g units; 1e-100 to 1e100 are supported (areas in its "
+                  "units would leave the double range)",
+                  extent);
+    fail(numbers);
   }
-  auto findOut = [&](int from, int to) -> const HalfEdge* {
-    auto first = out.begin() + out_begin[from], last = out.begin() + out_begin[from + 1];
+  p.unit = extent > 0 ? extent : 1.0;
+  for (auto& q : p.position) q = (q - centre) / p.unit;
+}
+
+// Outgoing half-edges per vertex, sorted by target so twins are found by binary search and
+// repeated edges sit side by side.
+class HalfEdges {
+ public:
+  explicit HalfEdges(const Patch& p) {
+    const int n = p.vertexCount();
+    const int faces = static_cast<int>(p.face.size());
+    begin_.assign(n + 1, 0);
+    for (const auto& t : p.face)
+      for (int c = 0; c < 3; ++c) ++begin_[t[c] + 1];
+    for (int v = 0; v < n; ++v) begin_[v + 1] += begin_[v];
+    out_.resize(begin_[n]);
+    std::vector<int> fill(begin_.begin(), begin_.end() - 1);
+    for (int f = 0; f < faces; ++f)
+      for (int c = 0; c < 3; ++c) out_[fill[p.face[f][c]]++] = {p.face[f][(c + 1) % 3], f};
+    for (int v = 0; v < n; ++v) {
+      auto first = out_.begin() + begin_[v], last = out_.begin() + begin_[v + 1];
+      std::sort(first, last, [](const HalfEdge& a, const HalfEdge& b) {
+        return a.target != b.target ? a.target < b.target : a.face < b.face;
+      });
+    }
+  }
+  const HalfEdge* find(int from, int to) const {
+    auto first = out_.begin() + begin_[from], last = out_.begin() + begin_[from + 1];
     auto it = std::lower_bound(first, last, to,
                                [](const HalfEdge& h, int target) { return h.target < target; });
     return (it != last && it->target == to) ? &*it : nullptr;
-  };
-  for (int v = 0; v < n; ++v) {
-    auto first = out.begin() + out_begin[v], last = out.begin() + out_begin[v + 1];
-    std::sort(first, last, [](const HalfEdge& a, const HalfEdge& b) {
-      return a.target != b.target ? a.target < b.target : a.face < b.face;
-    });
   }
-  for (int v = 0; v < n; ++v) {
-    for (int k = out_begin[v] + 1; k < out_begin[v + 1]; ++k) {
+  int begin(int v) const { return begin_[v]; }
+  int end(int v) const { return begin_[v + 1]; }
+  const HalfEdge& operator[](int k) const { return out_[k]; }
+
+ private:
+  std::vector<int> begin_;
+  std::vector<HalfEdge> out_;
+};
+
+// An edge used twice in the same direction: duplicate faces, a non-manifold edge, or faces
+// oriented inconsistently.
+void checkEdges(const Patch& p, const HalfEdges& out) {
+  for (int v = 0; v < p.vertexCount(); ++v) {
+    for (int k = out.begin(v) + 1; k < out.end(v); ++k) {
       if (out[k].target != out[k - 1].target) continue;
       const int w = out[k].target, f1 = out[k - 1].face, f2 = out[k].face;
       auto sorted = [&](int f) {
@@ -116,60 +132,74 @@ Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
         std::sort(t.begin(), t.end());
         return t;
       };
-      const std::string edge = "(" + inputName(v) + ", " + inputName(w) + ")";
+      const std::string edge = "(" + inputName(p, v) + ", " + inputName(p, w) + ")";
       if (sorted(f1) == sorted(f2))
         fail("faces " + std::to_string(f1) + " and " + std::to_string(f2) + " are duplicates");
-      if (findOut(w, v))
+      if (out.find(w, v))
         fail("edge " + edge + " is shared by more than two faces (a non-manifold edge)");
       fail("faces " + std::to_string(f1) + " and " + std::to_string(f2) +
            " are oriented inconsistently at edge " + edge);
     }
   }
+}
 
+// face_across from the twins; returns the number of boundary half-edges.
+int linkFaces(Patch& p, const HalfEdges& out) {
+  const int faces = static_cast<int>(p.face.size());
   p.face_across.resize(faces);
   int boundary_half_edges = 0;
   for (int f = 0; f < faces; ++f) {
     for (int c = 0; c < 3; ++c) {
-      const HalfEdge* twin = findOut(p.face[f][(c + 1) % 3], p.face[f][c]);
+      const HalfEdge* twin = out.find(p.face[f][(c + 1) % 3], p.face[f][c]);
       p.face_across[f][c] = twin ? twin->face : -1;
       boundary_half_edges += twin ? 0 : 1;
     }
   }
+  return boundary_half_edges;
+}
 
-  // One connected piece (through edges).
-  {
-    std::vector<char> seen(faces, 0);
-    std::vector<int> stack;
-    int components = 0;
-    for (int start = 0; start < faces; ++start) {
-      if (seen[start]) continue;
-      ++components;
-      seen[start] = 1;
-      stack.push_back(start);
-      while (!stack.empty()) {
-        const int f = stack.back();
-        stack.pop_back();
-        for (int g : p.face_across[f])
-          if (g >= 0 && !seen[g]) seen[g] = 1, stack.push_back(g);
-      }
+// One connected piece (through edges).
+void checkConnected(const Patch& p) {
+  const int faces = static_cast<int>(p.face.size());
+  const int n = p.vertexCount();
+  std::vector<char> seen(faces, 0);
+  std::vector<int> stack;
+  int components = 0;
+  for (int start = 0; start < faces; ++start) {
+    if (seen[start]) continue;
+    ++components;
+    seen[start] = 1;
+    stack.push_back(start);
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (int g : p.face_across[f])
+        if (g >= 0 && !seen[g]) seen[g] = 1, stack.push_back(g);
     }
-    if (components > 1 && components == faces && n == 3 * faces)
-      fail("the mesh has " + std::to_string(components) +
-           " connected components: its faces share no edges (merge duplicate vertices first)");
-    if (components > 1)
-      fail("the mesh has " + std::to_string(components) +
-           " connected components; a patch must be one piece (select one component)");
   }
+  if (components > 1 && components == faces && n == 3 * faces)
+    fail("the mesh has " + std::to_string(components) +
+         " connected components: its faces share no edges (merge duplicate vertices first)");
+  if (components > 1)
+    fail("the mesh has " + std::to_string(components) +
+         " connected components; a patch must be one piece (select one component)");
+}
 
-  // Boundary loops: every boundary vertex has exactly one outgoing boundary edge.
-  std::vector<int> boundary_next(n, -1);
+// Boundary loops: every boundary vertex has exactly one outgoing boundary edge. Fills
+// on_boundary, boundary_next and the first loop; returns the number of loops (every loop, as
+// input vertex indices, in `all_loops` when given).
+int findBoundaryLoops(Patch& p, int boundary_half_edges, std::vector<int>& boundary_next,
+                      std::vector<std::vector<int>>* all_loops) {
+  const int faces = static_cast<int>(p.face.size());
+  const int n = p.vertexCount();
+  boundary_next.assign(n, -1);
   p.on_boundary.assign(n, 0);
   for (int f = 0; f < faces; ++f) {
     for (int c = 0; c < 3; ++c) {
       if (p.face_across[f][c] >= 0) continue;
       const int a = p.face[f][c], b = p.face[f][(c + 1) % 3];
       if (boundary_next[a] >= 0)
-        fail("vertex " + inputName(a) +
+        fail("vertex " + inputName(p, a) +
              " is non-manifold (two parts of the surface meet only at this vertex)");
       boundary_next[a] = b;
       p.on_boundary[a] = 1;
@@ -178,40 +208,38 @@ Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
   if (boundary_half_edges == 0)
     fail("the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first");
   int loops = 0;
-  {
-    std::vector<char> visited(n, 0);
-    for (int start = 0; start < n; ++start) {
-      if (!p.on_boundary[start] || visited[start]) continue;
-      ++loops;
-      std::vector<int> loop;
-      for (int v = start; !visited[v]; v = boundary_next[v]) {
-        visited[v] = 1;
-        loop.push_back(v);
-      }
-      if (all_loops) {
-        all_loops->emplace_back();
-        for (int v : loop) all_loops->back().push_back(p.input_vertex[v]);
-      }
-      if (loops == 1) p.boundary_loop.swap(loop);
+  std::vector<char> visited(n, 0);
+  for (int start = 0; start < n; ++start) {
+    if (!p.on_boundary[start] || visited[start]) continue;
+    ++loops;
+    std::vector<int> loop;
+    for (int v = start; !visited[v]; v = boundary_next[v]) {
+      visited[v] = 1;
+      loop.push_back(v);
     }
+    if (all_loops) {
+      all_loops->emplace_back();
+      for (int v : loop) all_loops->back().push_back(p.input_vertex[v]);
+    }
+    if (loops == 1) p.boundary_loop.swap(loop);
   }
-  if (loops > 1 && all_loops) return p;
-  if (all_loops) all_loops->clear();
-  if (loops > 1)
-    fail("the patch has " + std::to_string(loops) +
-         " boundary loops (holes); only disk-shaped patches with one boundary loop are supported");
+  return loops;
+}
 
-  // Ordered 1-rings, walking counter-clockwise from the boundary edge (or any edge).
+// Ordered 1-rings, walking counter-clockwise from the boundary edge (or any edge); each must be
+// one fan.
+void buildRings(Patch& p, const HalfEdges& out, const std::vector<int>& boundary_next) {
+  const int n = p.vertexCount();
   p.ring_begin.assign(n + 1, 0);
   for (int v = 0; v < n; ++v)
-    p.ring_begin[v + 1] = p.ring_begin[v] + (out_begin[v + 1] - out_begin[v]) + p.on_boundary[v];
+    p.ring_begin[v + 1] = p.ring_begin[v] + (out.end(v) - out.begin(v)) + p.on_boundary[v];
   p.ring_vertex.resize(p.ring_begin[n]);
   p.ring_face.resize(p.ring_begin[n]);
   auto cornerOf = [&](int f, int v) { return p.face[f][0] == v ? 0 : (p.face[f][1] == v ? 1 : 2); };
   for (int v = 0; v < n; ++v) {
-    int f = out[out_begin[v]].face;
+    int f = out[out.begin(v)].face;
     if (p.on_boundary[v]) {
-      const HalfEdge* boundary_out = findOut(v, boundary_next[v]);
+      const HalfEdge* boundary_out = out.find(v, boundary_next[v]);
       f = boundary_out->face;
     }
     const int start_face = f;
@@ -240,10 +268,35 @@ Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
     }
     const bool complete = (k == end) && (p.on_boundary[v] ? !closed : closed);
     if (!complete)
-      fail("vertex " + inputName(v) +
+      fail("vertex " + inputName(p, v) +
            " is non-manifold (its faces do not form a single fan around it)");
   }
+}
 
+// The whole check and build, each check in the order its reason should win. With `all_loops`
+// given and more than one boundary loop, it stops after finding the loops (as input vertex
+// indices) and returns an incomplete patch.
+Patch analyzePatch(const PositionMatrix& V, const TriangleMatrix& F,
+                   std::vector<std::vector<int>>* all_loops) {
+  const int faces = static_cast<int>(F.rows());
+  if (faces == 0) fail("the mesh has no faces");
+  Patch p;
+  compactVertices(V, F, p);
+  normalizeFrame(p);
+  const HalfEdges out(p);
+  checkEdges(p, out);
+  const int boundary_half_edges = linkFaces(p, out);
+  checkConnected(p);
+  std::vector<int> boundary_next;
+  const int loops = findBoundaryLoops(p, boundary_half_edges, boundary_next, all_loops);
+  if (loops > 1 && all_loops) return p;
+  if (all_loops) all_loops->clear();
+  if (loops > 1)
+    fail("the patch has " + std::to_string(loops) +
+         " boundary loops (holes); only disk-shaped patches with one boundary loop are supported");
+  buildRings(p, out, boundary_next);
+
+  const int n = p.vertexCount();
   const long long edges = (3LL * faces + boundary_half_edges) / 2;
   const long long euler = static_cast<long long>(n) - edges + faces;
   if (euler != 1)
