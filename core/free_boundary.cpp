@@ -171,6 +171,41 @@ class GlobalSolver {
   std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> cholesky_;
 };
 
+// The ARAP local step and the global step's right-hand side: the rotation closest to each
+// face's current map (2x2 polar decomposition in closed form), then the rotated flat edges summed
+// per vertex, vertex `pinned` (row-less) moved to the right-hand side.
+void arapRightHandSide(const Patch& patch, const std::vector<FlatFace>& flat,
+                       const LocalUVs& current, int pinned, Eigen::MatrixX2d& rhs) {
+  auto unknown = [&](int v) { return v < pinned ? v : v - 1; };
+  const int faces = patch.real_face_count;
+  rhs.setZero();
+  for (int f = 0; f < faces; ++f) {
+    const auto& t = patch.face[f];
+    Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      S += flat[f].weight[k] * (current[t[a]] - current[t[b]]) *
+           (flat[f].x[a] - flat[f].x[b]).transpose();
+    }
+    const double angle = std::atan2(S(1, 0) - S(0, 1), S(0, 0) + S(1, 1));
+    Eigen::Matrix2d R;
+    R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+    for (int k = 0; k < 3; ++k) {
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      const int i = t[a], j = t[b];
+      const Eigen::Vector2d target = flat[f].weight[k] * (R * (flat[f].x[a] - flat[f].x[b]));
+      if (i != pinned) {
+        rhs.row(unknown(i)) += target.transpose();
+        if (j == pinned) rhs.row(unknown(i)) += flat[f].weight[k] * current[j].transpose();
+      }
+      if (j != pinned) {
+        rhs.row(unknown(j)) -= target.transpose();
+        if (i == pinned) rhs.row(unknown(j)) += flat[f].weight[k] * current[i].transpose();
+      }
+    }
+  }
+}
+
 }  // namespace
 
 bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv) {
@@ -241,34 +276,8 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
     for (int step = 0; step < steps; ++step) {
       if (!descent.beginStep(step, steps)) break;
       const LocalUVs& current = descent.current();
-      // Local step: the rotation closest to each face's current map (2x2 polar decomposition
-      // in closed form). Global step: the positions that best fit all the rotated faces.
-      rhs.setZero();
-      for (int f = 0; f < faces; ++f) {
-        const auto& t = patch.face[f];
-        Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
-        for (int k = 0; k < 3; ++k) {
-          const int a = (k + 1) % 3, b = (k + 2) % 3;
-          S += flat[f].weight[k] * (current[t[a]] - current[t[b]]) *
-               (flat[f].x[a] - flat[f].x[b]).transpose();
-        }
-        const double angle = std::atan2(S(1, 0) - S(0, 1), S(0, 0) + S(1, 1));
-        Eigen::Matrix2d R;
-        R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-        for (int k = 0; k < 3; ++k) {
-          const int a = (k + 1) % 3, b = (k + 2) % 3;
-          const int i = t[a], j = t[b];
-          const Eigen::Vector2d target = flat[f].weight[k] * (R * (flat[f].x[a] - flat[f].x[b]));
-          if (i != pinned) {
-            rhs.row(unknown(i)) += target.transpose();
-            if (j == pinned) rhs.row(unknown(i)) += flat[f].weight[k] * current[j].transpose();
-          }
-          if (j != pinned) {
-            rhs.row(unknown(j)) -= target.transpose();
-            if (i == pinned) rhs.row(unknown(j)) += flat[f].weight[k] * current[i].transpose();
-          }
-        }
-      }
+      // Local step, then the global step: the positions that best fit all the rotated faces.
+      arapRightHandSide(patch, flat, current, pinned, rhs);
       for (int v = 0; v < n; ++v)
         if (v != pinned) solved.row(unknown(v)) = current[v].transpose();
       if (!global.solve(rhs, solved)) break;

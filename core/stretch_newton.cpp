@@ -103,6 +103,65 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
   return limit;
 }
 
+// The Newton system at `uv`: the gradient of Q * S and the Hessian of S * Q (the term that
+// bends; S's own curvature and the cross terms dQ dS^T are left out, as the energy is
+// scale-invariant and each step is rescaled: a positive definite approximation, so the step
+// still descends), per face made positive semi-definite; u and v of vertex i at 2i and 2i + 1.
+void assembleNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& frames,
+                          const LocalUVs& uv, const Energy& energy, Eigen::VectorXd& gradient,
+                          std::vector<Eigen::Triplet<double>>& entries) {
+  const int n = patch.real_vertex_count;
+  const int faces = patch.real_face_count;
+  gradient.setZero();
+  entries.clear();
+  entries.reserve(static_cast<size_t>(faces) * 36 + 2 * n);
+  for (int f = 0; f < faces; ++f) {
+    const FaceFrame& frame = frames[f];
+    if (frame.area == 0) continue;
+    const auto& t = patch.face[f];
+    const Eigen::Vector4d J = jacobian(frame, t, uv);
+    const double det = determinant(J), fro = J.squaredNorm();
+    const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
+    const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
+    const Eigen::Vector4d dJ =
+        frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
+    Eigen::Matrix4d h = (2 / q2) * Eigen::Matrix4d::Identity() -
+                        (4 / q3) * (J * cof.transpose() + cof * J.transpose()) +
+                        (6 * fro / q4) * cof * cof.transpose();
+    h(0, 3) -= 2 * fro / q3;
+    h(3, 0) -= 2 * fro / q3;
+    h(1, 2) += 2 * fro / q3;
+    h(2, 1) += 2 * fro / q3;
+    h *= energy.S * frame.area;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
+    const Eigen::Vector4d clamped = eigen.eigenvalues().cwiseMax(1e-8 * energy.S * frame.area / q2);
+    h = eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
+    // d J / d (u0 u1 u2 v0 v1 v2)
+    Eigen::Matrix<double, 4, 6> D = Eigen::Matrix<double, 4, 6>::Zero();
+    for (int k = 0; k < 3; ++k) {
+      D.block<2, 1>(0, k) = frame.g[k];
+      D.block<2, 1>(2, 3 + k) = frame.g[k];
+    }
+    const Eigen::Matrix<double, 6, 1> g6 = D.transpose() * dJ;
+    const Eigen::Matrix<double, 6, 6> k6 = D.transpose() * h * D;
+    int index[6];
+    for (int k = 0; k < 3; ++k) {
+      index[k] = 2 * t[k];
+      index[3 + k] = 2 * t[k] + 1;
+    }
+    for (int r = 0; r < 6; ++r) {
+      gradient[index[r]] += g6[r];
+      for (int c = 0; c < 6; ++c) entries.emplace_back(index[r], index[c], k6(r, c));
+    }
+  }
+  // A small multiple of the identity fixes the translation the energy does not see.
+  double trace = 0;
+  for (const auto& e : entries)
+    if (e.row() == e.col()) trace += e.value();
+  const double shift = 1e-8 * trace / (2 * n);
+  for (int i = 0; i < 2 * n; ++i) entries.emplace_back(i, i, shift);
+}
+
 }  // namespace
 
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
@@ -149,58 +208,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
 
     for (int it = 0; it < steps; ++it) {
       if (!descent->beginStep(it, steps)) break;
-      // Gradient of Q * S and the Hessian of S * Q (the term that bends; S's own curvature and
-      // the cross terms dQ dS^T are left out, as the energy is scale-invariant and each step is
-      // rescaled: a positive definite approximation, so the step still descends).
-      gradient.setZero();
-      entries.clear();
-      entries.reserve(static_cast<size_t>(faces) * 36 + 2 * n);
-      for (int f = 0; f < faces; ++f) {
-        const FaceFrame& frame = frames[f];
-        if (frame.area == 0) continue;
-        const auto& t = patch.face[f];
-        const Eigen::Vector4d J = jacobian(frame, t, current);
-        const double det = determinant(J), fro = J.squaredNorm();
-        const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
-        const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
-        const Eigen::Vector4d dJ =
-            frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
-        Eigen::Matrix4d h = (2 / q2) * Eigen::Matrix4d::Identity() -
-                            (4 / q3) * (J * cof.transpose() + cof * J.transpose()) +
-                            (6 * fro / q4) * cof * cof.transpose();
-        h(0, 3) -= 2 * fro / q3;
-        h(3, 0) -= 2 * fro / q3;
-        h(1, 2) += 2 * fro / q3;
-        h(2, 1) += 2 * fro / q3;
-        h *= energy.S * frame.area;
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
-        const Eigen::Vector4d clamped =
-            eigen.eigenvalues().cwiseMax(1e-8 * energy.S * frame.area / q2);
-        h = eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
-        // d J / d (u0 u1 u2 v0 v1 v2)
-        Eigen::Matrix<double, 4, 6> D = Eigen::Matrix<double, 4, 6>::Zero();
-        for (int k = 0; k < 3; ++k) {
-          D.block<2, 1>(0, k) = frame.g[k];
-          D.block<2, 1>(2, 3 + k) = frame.g[k];
-        }
-        const Eigen::Matrix<double, 6, 1> g6 = D.transpose() * dJ;
-        const Eigen::Matrix<double, 6, 6> k6 = D.transpose() * h * D;
-        int index[6];
-        for (int k = 0; k < 3; ++k) {
-          index[k] = 2 * t[k];
-          index[3 + k] = 2 * t[k] + 1;
-        }
-        for (int r = 0; r < 6; ++r) {
-          gradient[index[r]] += g6[r];
-          for (int c = 0; c < 6; ++c) entries.emplace_back(index[r], index[c], k6(r, c));
-        }
-      }
-      // A small multiple of the identity fixes the translation the energy does not see.
-      double trace = 0;
-      for (const auto& e : entries)
-        if (e.row() == e.col()) trace += e.value();
-      const double shift = 1e-8 * trace / (2 * n);
-      for (int i = 0; i < 2 * n; ++i) entries.emplace_back(i, i, shift);
+      assembleNewtonSystem(patch, frames, current, energy, gradient, entries);
       H.setFromTriplets(entries.begin(), entries.end());
       if (!analyzed) {
         factor.analyzePattern(H);
