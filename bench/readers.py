@@ -11,6 +11,8 @@
             which the core refuses), bad index (a face index out of range reached the mesh),
             crashed (a signal) or hung (over 10 s)
 
+  png       the checkerboard PNG written by ours and by libpng (sdp_png_bench), when libpng is there
+
 Writes bench/results/readers.md and, with --readme, the README's bench:readers block.
   .venv/bin/python bench/readers.py --build build [--readme README.md]"""
 import argparse
@@ -210,6 +212,18 @@ def main():
             lines.append("")
             lines.append(f"{reader}, the first crashes and bad indices: " +
                          "; ".join(examples[reader]) + ".")
+    png_bench = bin_dir / "sdp_png_bench"
+    if png_bench.exists():
+        out = subprocess.run([png_bench, work], capture_output=True, text=True, check=True).stdout
+        lines += ["", "The checkerboard PNG (16 squares), our writer (zlib's deflate, no PNG filters) "
+                  "against libpng's defaults, best of 3; both files decoded by libpng and compared "
+                  "with the pixels:", "",
+                  "| pixels | ours s | ours bytes | libpng s | libpng bytes | both decode to the pixels |",
+                  "| --- | --- | --- | --- | --- | --- |"]
+        for line in out.splitlines():
+            w = line.split()
+            lines.append(f"| {w[0]}² | {w[2]} | {int(w[4]):,} | {w[8]} | {int(w[10]):,} | "
+                         f"{'yes' if w[6] == w[12] == 'decodes' else 'NO'} |")
     body = "\n".join(lines)
     RESULTS.mkdir(parents=True, exist_ok=True)
     (RESULTS / "readers.md").write_text(body + "\n")

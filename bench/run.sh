@@ -12,7 +12,7 @@ bash scripts/install-deps.sh
 .venv/bin/python -m pip install --disable-pip-version-check -q matplotlib
 build_dir="${SDP_BUILD_DIR:-$repo_dir/build}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_cgal_peer straightest_param sdp_reader_bench
+cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_cgal_peer straightest_param sdp_reader_bench sdp_png_bench
 .venv/bin/python bench/run.py --build-dir "$build_dir" "$@"
 # What a user gets by default (refined), against the linear map and SLIM (README *Defaults*).
 if [[ "${1:-}" == "--quick" ]]; then

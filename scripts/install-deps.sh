@@ -23,7 +23,7 @@ debian_packages=(
   build-essential cmake git pkg-config ca-certificates xz-utils
   python3 python3-venv python3-pip
   qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
-  libgtest-dev libcgal-dev zlib1g-dev clang-format
+  libgtest-dev libcgal-dev zlib1g-dev libpng-dev clang-format
   clang libclang-rt-14-dev
   meshlab
   xvfb xauth xdotool x11-utils imagemagick
