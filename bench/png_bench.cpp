@@ -5,13 +5,12 @@
 //                          both decode to the pixels
 #include <png.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <vector>
 
+#include "best_of_three.h"
 #include "filter_straightest_param/checkerboard.h"
 #include "mesh_io.h"
 
@@ -48,17 +47,6 @@ bool decodesTo(const std::string& path, int size, const std::vector<unsigned cha
   return read && static_cast<int>(image.width) == size && pixels == rgb;
 }
 
-double seconds(const std::function<void()>& run) {
-  double best = 1e300;
-  for (int k = 0; k < 3; ++k) {
-    const auto start = std::chrono::steady_clock::now();
-    run();
-    best = std::min(
-        best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  return best;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -71,10 +59,11 @@ int main(int argc, char** argv) {
     const std::vector<unsigned char> rgb = sdp::checkerboardRGB(size, 16);
     const std::string ours = (folder / ("ours_" + std::to_string(size) + ".png")).string();
     const std::string libpng = (folder / ("libpng_" + std::to_string(size) + ".png")).string();
-    const double ours_s = seconds([&] { sdp::io::writePng(ours, size, size, rgb); });
+    const double ours_s =
+        sdp::bench::bestOfThreeSeconds([&] { sdp::io::writePng(ours, size, size, rgb); });
     bool written = true;
-    const double libpng_s =
-        seconds([&] { written = written && writeWithLibpng(libpng, size, rgb); });
+    const double libpng_s = sdp::bench::bestOfThreeSeconds(
+        [&] { written = written && writeWithLibpng(libpng, size, rgb); });
     std::printf("%d ours %.4f s %ju bytes %s libpng %.4f s %ju bytes %s\n", size, ours_s,
                 static_cast<uintmax_t>(std::filesystem::file_size(ours)),
                 decodesTo(ours, size, rgb) ? "decodes" : "WRONG", libpng_s,

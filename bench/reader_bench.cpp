@@ -6,11 +6,9 @@
 //       one read; prints "accepted V F", "accepted-invalid V F <why>" (a face index out of range
 //       or a coordinate not finite reached the mesh), or "refused <reason>"; a crash or a hang
 //       is the driver's to see.
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <functional>
 #include <string>
 
 #include <vcg/complex/complex.h>
@@ -18,6 +16,7 @@
 #include <wrap/io_trimesh/import_off.h>
 #include <wrap/io_trimesh/import_ply.h>
 
+#include "best_of_three.h"
 #include "mesh_io.h"
 
 namespace {
@@ -104,25 +103,14 @@ Outcome readVcg(const std::string& path) {
   return out;
 }
 
-double bestOfThree(const std::function<void()>& read) {
-  double best = 1e300;
-  for (int run = 0; run < 3; ++run) {
-    const auto start = std::chrono::steady_clock::now();
-    read();
-    best = std::min(
-        best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  return best;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc >= 3 && std::strcmp(argv[1], "time") == 0) {
     for (int i = 2; i < argc; ++i) {
       Outcome ours, vcg;
-      const double ours_s = bestOfThree([&] { ours = readOurs(argv[i]); });
-      const double vcg_s = bestOfThree([&] { vcg = readVcg(argv[i]); });
+      const double ours_s = sdp::bench::bestOfThreeSeconds([&] { ours = readOurs(argv[i]); });
+      const double vcg_s = sdp::bench::bestOfThreeSeconds([&] { vcg = readVcg(argv[i]); });
       std::printf("%s ours %.3f s (%d v, %d f%s) vcglib %.3f s (%d v, %d f%s)\n", argv[i], ours_s,
                   ours.vertices, ours.faces, ours.accepted ? "" : ", refused", vcg_s, vcg.vertices,
                   vcg.faces, vcg.accepted ? "" : ", refused");

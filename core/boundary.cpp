@@ -1,5 +1,4 @@
 #include "boundary.h"
-#include "geometry.h"
 
 #include "free_boundary.h"
 
@@ -10,6 +9,7 @@
 #include <numeric>
 #include <queue>
 
+#include "geometry.h"
 #include "metrics.h"
 #include "straightest.h"
 #include "weights.h"
@@ -494,8 +494,7 @@ Polygon convexWithUnfoldedEars(const Patch& patch, const Polygon& polar, Measure
       const double length3 = chord3.norm();
       const Eigen::Vector2d chord2 = full[c] - full[a];
       const double length2 = chord2.norm();
-      if (!(length3 > 0) || !(length2 > 0))
-        return makeStrictlyConvex(polar, spacing, dividingEdges(patch));
+      if (!(length3 > 0) || !(length2 > 0)) return withoutUnfolding();
       const double along = (B - A).dot(chord3) / (length3 * length3);
       const double across = (B - A).cross(chord3).norm() / length3 * (length2 / length3);
       // Outside a counter-clockwise polygon: to the right of a -> c.

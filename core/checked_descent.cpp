@@ -14,7 +14,6 @@ CheckedDescent::CheckedDescent(const Patch& patch, const LocalUVs& start, Stretc
       stage_(stage),
       border_(boundaryEdges(patch)),
       current_(start),
-      candidate_(start),
       best_(start) {}
 
 bool CheckedDescent::beginStep(int step, int steps) {

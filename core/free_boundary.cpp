@@ -1,7 +1,6 @@
 #include "free_boundary.h"
 
 #include "checked_descent.h"
-#include "error.h"
 #include "geometry.h"
 #include "multigrid.h"
 

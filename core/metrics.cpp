@@ -1,10 +1,10 @@
 #include "metrics.h"
-#include "geometry.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
 
+#include "geometry.h"
 #include "parallel.h"
 
 namespace sdp {

@@ -1,5 +1,4 @@
 #include "storage.h"
-#include "geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 
 #include "error.h"
 #include "free_boundary.h"
+#include "geometry.h"
 #include "metrics.h"
 
 namespace sdp {

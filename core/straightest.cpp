@@ -1,8 +1,9 @@
 #include "straightest.h"
-#include "geometry.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
+
+#include "geometry.h"
 
 namespace sdp {
 

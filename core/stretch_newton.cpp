@@ -10,7 +10,6 @@
 #include <optional>
 
 #include "checked_descent.h"
-#include "error.h"
 #include "free_boundary.h"
 #include "geometry.h"
 
@@ -79,13 +78,12 @@ Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const 
 // The largest t for which no face's signed UV area reaches zero along uv + t d.
 double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d) {
   double limit = std::numeric_limits<double>::infinity();
-  const auto cross = cross2;
   for (int f = 0; f < patch.real_face_count; ++f) {
     const auto& t = patch.face[f];
     const Eigen::Vector2d p0 = uv[t[1]] - uv[t[0]], p1 = uv[t[2]] - uv[t[0]];
     const Eigen::Vector2d d0 = d[t[1]] - d[t[0]], d1 = d[t[2]] - d[t[0]];
     // area(t) ~ qc + qb t + qa t^2
-    const double qa = cross(d0, d1), qb = cross(p0, d1) + cross(d0, p1), qc = cross(p0, p1);
+    const double qa = cross2(d0, d1), qb = cross2(p0, d1) + cross2(d0, p1), qc = cross2(p0, p1);
     auto consider = [&](double root) {
       if (root > 0 && std::isfinite(root)) limit = std::min(limit, root);
     };

@@ -1,6 +1,6 @@
 #include "weights.h"
-#include "geometry.h"
 
+#include "geometry.h"
 #include "parallel.h"
 
 #include <cmath>
@@ -24,7 +24,6 @@ bool floaterWeights(const Ring& ring, double* w) {
   for (int k = 0; k < n; ++k)
     p[k] = (ring.neighbour[k] - ring.center).norm() *
            Eigen::Vector2d(std::cos(phi[k]), std::sin(phi[k]));
-  const auto cross = cross2;
   for (int j = 0; j < n; ++j) {
     double opposite = phi[j] + kPi;
     if (opposite >= 2 * kPi) opposite -= 2 * kPi;
@@ -33,11 +32,11 @@ bool floaterWeights(const Ring& ring, double* w) {
     const int b = (a + 1) % n;
     if (a == j || b == j) return false;  // a scaled angle of at least pi: no convex combination
     // Barycentric coordinates of the origin in triangle (p_j, p_a, p_b) via signed areas.
-    const double total = cross(p[a] - p[j], p[b] - p[j]);
+    const double total = cross2(p[a] - p[j], p[b] - p[j]);
     if (!(std::abs(total) > 0)) return false;
-    const double lj = cross(p[a], p[b]) / total;
-    const double la = cross(p[b], p[j]) / total;
-    const double lb = cross(p[j], p[a]) / total;
+    const double lj = cross2(p[a], p[b]) / total;
+    const double la = cross2(p[b], p[j]) / total;
+    const double lb = cross2(p[j], p[a]) / total;
     w[j] += std::max(lj, 0.0);
     w[a] += std::max(la, 0.0);
     w[b] += std::max(lb, 0.0);
