@@ -2,7 +2,7 @@
 
 #include "checked_descent.h"
 #include "geometry.h"
-#include "multigrid.h"
+#include "laplacian_multigrid.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
@@ -89,8 +89,7 @@ FlatFace flatten(const Patch& patch, int f) {
 
 // Solves L x = b for the global step, L fixed across steps (symmetric, positive weights, one
 // vertex pinned): BiCGSTAB with the project's multigrid from the previous positions (a step moves
-// them a little), rows in breadth-first order as in solve.cpp; a Cholesky factor for small
-// systems or if the iteration does not converge.
+// them a little); a Cholesky factor for small systems or if the iteration does not converge.
 class GlobalSolver {
  public:
   // Built here from its entries: a copied Eigen::SparseMatrix leaks its index array when the
@@ -99,59 +98,14 @@ class GlobalSolver {
     L_.resize(n, n);
     L_.setFromTriplets(entries.begin(), entries.end());
     if (n < 1000) return;  // LU territory in solve.h too
-    std::vector<int> new_of(n, -1);
-    order_.reserve(n);
-    for (int seed = 0; seed < n; ++seed) {
-      if (new_of[seed] >= 0) continue;
-      new_of[seed] = static_cast<int>(order_.size());
-      order_.push_back(seed);
-      for (size_t head = order_.size() - 1; head < order_.size(); ++head)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(L_, order_[head]); it; ++it)
-          if (new_of[it.row()] < 0) {
-            new_of[it.row()] = static_cast<int>(order_.size());
-            order_.push_back(static_cast<int>(it.row()));
-          }
-    }
-    SplitCsr A;
-    A.size = n;
-    A.diagonal.assign(n, 1.0);
-    A.lower.begin.assign(n + 1, 0);
-    A.upper.begin.assign(n + 1, 0);
-    diagonal_.assign(n, 0.0);
-    for (int r = 0; r < n; ++r) {
-      const int i = order_[r];
-      for (Eigen::SparseMatrix<double>::InnerIterator it(L_, i); it; ++it)
-        if (it.row() == i) diagonal_[i] = it.value();
-      if (!(diagonal_[i] > 0)) return;  // not a usable row: Cholesky decides
-      for (Eigen::SparseMatrix<double>::InnerIterator it(L_, i); it; ++it) {
-        if (it.row() == i) continue;
-        const int c = new_of[it.row()];
-        CsrRows& part = c < r ? A.lower : A.upper;
-        part.column.push_back(c);
-        part.value.push_back(it.value() / diagonal_[i]);
-      }
-      A.lower.begin[r + 1] = static_cast<int>(A.lower.column.size());
-      A.upper.begin[r + 1] = static_cast<int>(A.upper.column.size());
-    }
-    multigrid_.build(std::move(A));
-    iterative_ = multigrid_.usable();
+    iterative_ = multigrid_.build(L_);
   }
 
   bool solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x) {
     if (iterative_) {
-      const int n = static_cast<int>(order_.size());
-      Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> bn(n, 2), xn(n, 2);
-      for (int r = 0; r < n; ++r) {
-        bn.row(r) = b.row(order_[r]) / diagonal_[order_[r]];
-        xn.row(r) = x.row(order_[r]);
-      }
-      const KrylovOutcome outcome = solveBiCgStab<2>(multigrid_, bn.data(), xn.data(), 1e-8, 100);
-      if (outcome.converged) {
-        for (int r = 0; r < n; ++r) x.row(order_[r]) = xn.row(r);
-        return true;
-      }
+      if (multigrid_.solve(b, x, 1e-8, 100)) return true;
       iterative_ = false;
-      multigrid_ = Multigrid();
+      multigrid_ = LaplacianMultigrid();
     }
     if (!cholesky_) {
       cholesky_ = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(L_);
@@ -163,9 +117,7 @@ class GlobalSolver {
 
  private:
   Eigen::SparseMatrix<double> L_;
-  std::vector<int> order_;        // breadth-first position -> row of L
-  std::vector<double> diagonal_;  // per row of L
-  Multigrid multigrid_;
+  LaplacianMultigrid multigrid_;
   bool iterative_ = false;
   std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> cholesky_;
 };

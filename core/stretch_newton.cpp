@@ -12,6 +12,8 @@
 #include "checked_descent.h"
 #include "free_boundary.h"
 #include "geometry.h"
+#include "laplacian_multigrid.h"
+#include "parallel.h"
 
 namespace sdp {
 namespace {
@@ -101,10 +103,31 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
   return limit;
 }
 
-// The Newton system at `uv`: the gradient of Q * S and the Hessian of S * Q (the term that
-// bends; S's own curvature and the cross terms dQ dS^T are left out, as the energy is
-// scale-invariant and each step is rescaled: a positive definite approximation, so the step
-// still descends), per face made positive semi-definite; u and v of vertex i at 2i and 2i + 1.
+// One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
+// dJ of Q * S and the Hessian h of S * Q (the term that bends; S's own curvature and the cross
+// terms dQ dS^T are left out, as the energy is scale-invariant and each step is rescaled: a
+// positive definite approximation, so the step still descends), made positive semi-definite.
+void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
+                     Eigen::Vector4d& dJ, Eigen::Matrix4d& h) {
+  const double det = determinant(J), fro = J.squaredNorm();
+  const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
+  const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
+  dJ = frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
+  h = (2 / q2) * Eigen::Matrix4d::Identity() -
+      (4 / q3) * (J * cof.transpose() + cof * J.transpose()) +
+      (6 * fro / q4) * cof * cof.transpose();
+  h(0, 3) -= 2 * fro / q3;
+  h(3, 0) -= 2 * fro / q3;
+  h(1, 2) += 2 * fro / q3;
+  h(2, 1) += 2 * fro / q3;
+  h *= energy.S * frame.area;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
+  const Eigen::Vector4d clamped = eigen.eigenvalues().cwiseMax(1e-8 * energy.S * frame.area / q2);
+  h = eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+// The Newton system at `uv` assembled for the sparse factor; u and v of vertex i at 2i and
+// 2i + 1.
 void assembleNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& frames,
                           const LocalUVs& uv, const Energy& energy, Eigen::VectorXd& gradient,
                           std::vector<Eigen::Triplet<double>>& entries) {
@@ -117,23 +140,9 @@ void assembleNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& fram
     const FaceFrame& frame = frames[f];
     if (frame.area == 0) continue;
     const auto& t = patch.face[f];
-    const Eigen::Vector4d J = jacobian(frame, t, uv);
-    const double det = determinant(J), fro = J.squaredNorm();
-    const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
-    const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
-    const Eigen::Vector4d dJ =
-        frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
-    Eigen::Matrix4d h = (2 / q2) * Eigen::Matrix4d::Identity() -
-                        (4 / q3) * (J * cof.transpose() + cof * J.transpose()) +
-                        (6 * fro / q4) * cof * cof.transpose();
-    h(0, 3) -= 2 * fro / q3;
-    h(3, 0) -= 2 * fro / q3;
-    h(1, 2) += 2 * fro / q3;
-    h(2, 1) += 2 * fro / q3;
-    h *= energy.S * frame.area;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
-    const Eigen::Vector4d clamped = eigen.eigenvalues().cwiseMax(1e-8 * energy.S * frame.area / q2);
-    h = eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
+    Eigen::Vector4d dJ;
+    Eigen::Matrix4d h;
+    faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, h);
     // d J / d (u0 u1 u2 v0 v1 v2)
     Eigen::Matrix<double, 4, 6> D = Eigen::Matrix<double, 4, 6>::Zero();
     for (int k = 0; k < 3; ++k) {
@@ -160,19 +169,188 @@ void assembleNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& fram
   for (int i = 0; i < 2 * n; ++i) entries.emplace_back(i, i, shift);
 }
 
+// The Newton system of a large patch, never assembled (its sparse factor would not fit: 59% of
+// a step's time already at 11k vertices): per face the 4x4 h in J's coordinates, applied as
+// D^T h D on the fly, and solved by conjugate gradients preconditioned with the project's
+// multigrid on a scalar proxy. The proxy is the Laplacian the same faces give with the 2x2
+// metric (h_uu + h_vv) / 2 in place of h (g_i^T M g_j between corners i and j), its positive
+// off-diagonal entries (obtuse corners) moved onto the diagonal so it is the M-matrix the
+// multigrid needs; one cycle on u and v at once approximates the inverse of the u-u and v-v
+// blocks.
+class MatrixFreeNewtonSystem {
+ public:
+  MatrixFreeNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& frames)
+      : patch_(patch), frames_(frames), hessian_(frames.size()), slot_(frames.size()) {
+    const int n = patch.real_vertex_count;
+    std::vector<Eigen::Triplet<double>> pattern;
+    pattern.reserve(9 * frames.size());
+    for (int f = 0; f < patch.real_face_count; ++f)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) pattern.emplace_back(patch.face[f][a], patch.face[f][b], 0.0);
+    proxy_.resize(n, n);
+    proxy_.setFromTriplets(pattern.begin(), pattern.end());
+    std::vector<Eigen::Triplet<double>>().swap(pattern);
+    proxy_.makeCompressed();
+    // Where each face's 3 x 3 block lands among the proxy's values, found once.
+    const int* outer = proxy_.outerIndexPtr();
+    const int* inner = proxy_.innerIndexPtr();
+    for (int f = 0; f < patch.real_face_count; ++f)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+          const int row = patch.face[f][a], col = patch.face[f][b];
+          slot_[f][3 * a + b] = static_cast<int>(
+              std::lower_bound(inner + outer[col], inner + outer[col + 1], row) - inner);
+        }
+  }
+
+  // The gradient and the face Hessians at `uv`, and the proxy's new values. Returns whether the
+  // multigrid could be built on the proxy.
+  bool update(const LocalUVs& uv, const Energy& energy, Eigen::VectorXd& gradient) {
+    const int n = patch_.real_vertex_count;
+    const int faces = patch_.real_face_count;
+    const int workers = parallelWorkers();
+    std::vector<Eigen::VectorXd> partial(workers, Eigen::VectorXd::Zero(2 * n));
+    std::vector<double> trace(workers, 0.0);
+    parallelFor(faces, 4096, [&](int begin, int end, int worker) {
+      Eigen::VectorXd& g = partial[worker];
+      for (int f = begin; f < end; ++f) {
+        const FaceFrame& frame = frames_[f];
+        if (frame.area == 0) {
+          hessian_[f].setZero();
+          continue;
+        }
+        const auto& t = patch_.face[f];
+        Eigen::Vector4d dJ;
+        faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, hessian_[f]);
+        scatter(frame, t, dJ, g);
+        const Eigen::Matrix2d uu = hessian_[f].topLeftCorner<2, 2>();
+        const Eigen::Matrix2d vv = hessian_[f].bottomRightCorner<2, 2>();
+        for (int k = 0; k < 3; ++k) trace[worker] += frame.g[k].dot((uu + vv) * frame.g[k]);
+      }
+    });
+    gradient = partial[0];
+    for (int w = 1; w < workers; ++w) gradient += partial[w];
+    double total_trace = 0;
+    for (double t : trace) total_trace += t;
+    shift_ = 1e-8 * total_trace / (2 * n);  // as in assembleNewtonSystem
+
+    double* value = proxy_.valuePtr();
+    std::fill(value, value + proxy_.nonZeros(), 0.0);
+    for (int f = 0; f < faces; ++f) {
+      if (frames_[f].area == 0) continue;
+      const Eigen::Matrix2d M =
+          0.5 * (hessian_[f].topLeftCorner<2, 2>() + hessian_[f].bottomRightCorner<2, 2>());
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          value[slot_[f][3 * a + b]] += frames_[f].g[a].dot(M * frames_[f].g[b]);
+    }
+    // A positive entry p at (i, j) is moved onto the diagonal at i and j: the proxy grows by
+    // p (e_i - e_j)(e_i - e_j)^T, so it stays positive semi-definite and becomes a weighted
+    // graph Laplacian (rows summing to zero) plus the shift.
+    for (int col = 0; col < n; ++col) {
+      double moved = 0;
+      double* diagonal = nullptr;
+      for (Eigen::SparseMatrix<double>::InnerIterator it(proxy_, col); it; ++it) {
+        if (it.row() == col) {
+          diagonal = &it.valueRef();
+        } else if (it.value() > 0) {
+          moved += it.value();
+          it.valueRef() = 0;
+        }
+      }
+      if (diagonal) *diagonal += moved + shift_;
+    }
+    return preconditioner_.update(proxy_);
+  }
+
+  // y = H x (H as assembleNewtonSystem would assemble it).
+  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    const int n = patch_.real_vertex_count;
+    const int workers = parallelWorkers();
+    partial_.resize(workers);
+    parallelFor(patch_.real_face_count, 4096, [&](int begin, int end, int worker) {
+      Eigen::VectorXd& out = partial_[worker];
+      out.setZero(2 * n);
+      for (int f = begin; f < end; ++f) {
+        const FaceFrame& frame = frames_[f];
+        if (frame.area == 0) continue;
+        const auto& t = patch_.face[f];
+        Eigen::Vector4d Dx = Eigen::Vector4d::Zero();
+        for (int k = 0; k < 3; ++k) {
+          Dx.head<2>() += x[2 * t[k]] * frame.g[k];
+          Dx.tail<2>() += x[2 * t[k] + 1] * frame.g[k];
+        }
+        scatter(frame, t, hessian_[f] * Dx, out);
+      }
+    });
+    y = shift_ * x;
+    for (int w = 0; w < workers; ++w)
+      if (partial_[w].size() == y.size()) y += partial_[w];
+  }
+
+  // Truncated preconditioned conjugate gradients for H d = -gradient from d = 0, to the
+  // relative residual `tolerance`: every iterate descends, so a loose solve still gives a step
+  // the line search can take (the Polak-Ribiere form tolerates a preconditioner that is not
+  // exactly symmetric). Returns the iterations used.
+  int solve(const Eigen::VectorXd& gradient, Eigen::VectorXd& direction, double tolerance,
+            int max_iterations) const {
+    const Eigen::Index size = gradient.size();
+    direction.setZero(size);
+    Eigen::VectorXd r = -gradient, z(size), z_old(size), p(size), q(size);
+    const double stop = tolerance * r.norm();
+    preconditioner_.applyCycle(r.data(), z.data());
+    p = z;
+    double rz = r.dot(z);
+    int it = 0;
+    while (it < max_iterations && r.norm() > stop) {
+      ++it;
+      multiply(p, q);
+      const double curvature = p.dot(q);
+      if (!(curvature > 0) || !(rz > 0)) break;
+      const double alpha = rz / curvature;
+      direction += alpha * p;
+      r -= alpha * q;
+      z_old.swap(z);
+      preconditioner_.applyCycle(r.data(), z.data());
+      const double rz_new = r.dot(z);
+      const double beta = std::max(0.0, (rz_new - r.dot(z_old)) / rz);
+      rz = rz_new;
+      p = z + beta * p;
+    }
+    return it;
+  }
+
+ private:
+  // out += D^T y for one face (y in J's coordinates: u's gradient, then v's).
+  static void scatter(const FaceFrame& frame, const std::array<int, 3>& t, const Eigen::Vector4d& y,
+                      Eigen::VectorXd& out) {
+    for (int k = 0; k < 3; ++k) {
+      out[2 * t[k]] += frame.g[k].dot(y.head<2>());
+      out[2 * t[k] + 1] += frame.g[k].dot(y.tail<2>());
+    }
+  }
+
+  const Patch& patch_;
+  const std::vector<FaceFrame>& frames_;
+  std::vector<Eigen::Matrix4d> hessian_;
+  std::vector<std::array<int, 9>> slot_;
+  Eigen::SparseMatrix<double> proxy_;
+  LaplacianMultigrid preconditioner_;
+  double shift_ = 0;
+  mutable std::vector<Eigen::VectorXd> partial_;
+};
+
 }  // namespace
 
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                          StretchMetrics& metrics, StretchNewtonCounts& counts,
-                                         const Progress& progress, const RefineBudget& budget) {
+                                         const Progress& progress, const RefineBudget& budget,
+                                         const StretchNewtonSettings& settings) {
   const int n = patch.real_vertex_count;
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
-  if (n > kStretchNewtonMaxVertices) {
-    counts.skipped = true;
-    return uv;
-  }
   if (budget.expired()) return uv;
+  const bool direct = n <= settings.direct_up_to;
   std::optional<CheckedDescent> descent;  // made inside the try: its allocations may fail too
   try {
     const double total_area = patchArea3d(patch);
@@ -200,12 +378,23 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor;
     bool analyzed = false;
     std::vector<Eigen::Triplet<double>> entries;
-    Eigen::SparseMatrix<double> H(2 * n, 2 * n);
+    Eigen::SparseMatrix<double> H;
+    std::optional<MatrixFreeNewtonSystem> matrix_free;
+    if (direct)
+      H.resize(2 * n, 2 * n);
+    else
+      matrix_free.emplace(patch, frames);
     Eigen::VectorXd gradient(2 * n), direction(2 * n);
     LocalUVs step(current.size(), Eigen::Vector2d::Zero());
 
-    for (int it = 0; it < steps; ++it) {
-      if (!descent->beginStep(it, steps)) break;
+    // The direction: the Newton step, by the sparse factor or by conjugate gradients.
+    auto newtonDirection = [&]() {
+      if (!direct) {
+        if (!matrix_free->update(current, energy, gradient)) return false;
+        counts.cg_iterations += matrix_free->solve(gradient, direction, settings.cg_tolerance,
+                                                   settings.cg_max_iterations);
+        return direction.allFinite();
+      }
       assembleNewtonSystem(patch, frames, current, energy, gradient, entries);
       H.setFromTriplets(entries.begin(), entries.end());
       if (!analyzed) {
@@ -213,12 +402,14 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         analyzed = true;
       }
       factor.factorize(H);
-      if (factor.info() != Eigen::Success) {
-        counts.stopped = true;
-        break;
-      }
+      if (factor.info() != Eigen::Success) return false;
       direction = factor.solve(-gradient);
-      if (factor.info() != Eigen::Success || !direction.allFinite()) {
+      return factor.info() == Eigen::Success && direction.allFinite();
+    };
+
+    for (int it = 0; it < steps; ++it) {
+      if (!descent->beginStep(it, steps)) break;
+      if (!newtonDirection()) {
         counts.stopped = true;
         break;
       }
@@ -232,7 +423,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         }
       }
       for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
-      descent->recordStepTime();  // the factorization is most of a step's time
+      descent->recordStepTime();  // the linear solve is most of a step's time
 
       // Capped short of the first collapse, then halved until the energy drops enough; the
       // map is checked at the scale it is returned at.
@@ -260,7 +451,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     }
     return descent->takeBest();
   } catch (const std::bad_alloc&) {
-    counts.skipped = true;  // the factor did not fit: keep the best map so far
+    counts.skipped = true;  // the system did not fit: keep the best map so far
     return descent ? descent->takeBest() : uv;
   }
 }

@@ -10,10 +10,12 @@
 // one-to-one.
 //
 // The step: per face, the 4x4 Hessian of |J|^2 / det^2 made positive semi-definite (eigenvalues
-// clamped), mapped to the face's 6 UV coordinates, assembled into one sparse system over u and v
-// together and solved by a sparse Cholesky (LDLT) factor; the pattern's analysis is kept across
-// steps. u and v are coupled, so the project's multigrid (scalar M-matrices) does not apply:
-// meshes above kStretchNewtonMaxVertices skip these steps (memory and time of the factor).
+// clamped), mapped to the face's 6 UV coordinates: one sparse system over u and v together. Up
+// to StretchNewtonSettings::direct_up_to vertices it is assembled and solved by a sparse Cholesky
+// (LDLT) factor, the pattern's analysis kept across steps. Above, where the factor's memory and
+// time grow too fast, it is applied face by face without being assembled and solved by
+// conjugate gradients, preconditioned by the project's multigrid on a scalar Laplacian proxy of
+// it (u and v are coupled, the multigrid takes scalar M-matrices: the proxy drops the coupling).
 #pragma once
 
 #include <vector>
@@ -27,12 +29,20 @@
 
 namespace sdp {
 
-constexpr int kStretchNewtonMaxVertices = 50000;
+struct StretchNewtonSettings {
+  // The sparse factor up to this many vertices, conjugate gradients above.
+  int direct_up_to = 50000;
+  // Relative residual of the conjugate gradients: a truncated Newton step (any iterate
+  // descends; the line search makes it safe).
+  double cg_tolerance = 1e-2;
+  int cg_max_iterations = 20;
+};
 
 struct StretchNewtonCounts {
   int steps_taken = 0;
-  bool skipped = false;  // too many vertices, or the factor did not fit in memory
-  bool stopped = false;  // a step could not be taken, or the energy stopped decreasing
+  int cg_iterations = 0;  // summed over the steps (0 on the direct path)
+  bool skipped = false;   // the system did not fit in memory
+  bool stopped = false;   // a step could not be taken, or the energy stopped decreasing
 };
 
 // Up to `steps` Newton steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the
@@ -42,6 +52,7 @@ struct StretchNewtonCounts {
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                          StretchMetrics& metrics, StretchNewtonCounts& counts,
                                          const Progress& progress = Progress(),
-                                         const RefineBudget& budget = {});
+                                         const RefineBudget& budget = {},
+                                         const StretchNewtonSettings& settings = {});
 
 }  // namespace sdp

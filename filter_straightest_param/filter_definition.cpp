@@ -122,8 +122,8 @@ const std::vector<ParameterDescription>& parameters() {
       intRow("stretchiterations", "--stretch-iterations", "K", "Stretch iterations",
              "Most refinement steps per stage; 0 gives the paper's linear map. Refinement "
              "re-solves with weights that pull less towards stretched areas, then (Measured "
-             "boundary) lets the outline move in checked steps and, up to 50k vertices, takes "
-             "Newton steps on the stretch itself; the map never folds. A stage stops early once "
+             "boundary) lets the outline move in checked steps and takes Newton steps on the "
+             "stretch itself; the map never folds. A stage stops early once "
              "a step gains under 0.1% of L2 stretch, and refinement stops after twice the "
              "linear map's time (at least 1.5 s). Circle and Square boundaries stay as they are.",
              sdp::kDefaultStretchIterations, 0, 100, &FilterValues::stretch_iterations),

@@ -1,0 +1,112 @@
+#include "laplacian_multigrid.h"
+
+#include <cmath>
+
+namespace sdp {
+
+bool LaplacianMultigrid::scale(const Eigen::SparseMatrix<double>& L, SplitCsr& A) {
+  const int n = static_cast<int>(L.rows());
+  std::vector<int> new_of(n, -1);
+  if (static_cast<int>(order_.size()) != n) {
+    order_.clear();
+    order_.reserve(n);
+    for (int seed = 0; seed < n; ++seed) {
+      if (new_of[seed] >= 0) continue;
+      new_of[seed] = static_cast<int>(order_.size());
+      order_.push_back(seed);
+      for (size_t head = order_.size() - 1; head < order_.size(); ++head)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(L, order_[head]); it; ++it)
+          if (new_of[it.row()] < 0) {
+            new_of[it.row()] = static_cast<int>(order_.size());
+            order_.push_back(static_cast<int>(it.row()));
+          }
+    }
+  } else {
+    for (int r = 0; r < n; ++r) new_of[order_[r]] = r;
+  }
+  root_diagonal_.assign(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it)
+      if (it.row() == i) root_diagonal_[i] = std::sqrt(it.value());
+    if (!(root_diagonal_[i] > 0)) return false;
+  }
+  A.size = n;
+  A.diagonal.assign(n, 1.0);
+  A.lower = CsrRows{};
+  A.upper = CsrRows{};
+  A.lower.begin.assign(n + 1, 0);
+  A.upper.begin.assign(n + 1, 0);
+  for (int r = 0; r < n; ++r) {
+    const int i = order_[r];
+    // Columns of the symmetric L serve as its rows.
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it) {
+      if (it.row() == i) continue;
+      const int c = new_of[it.row()];
+      CsrRows& part = c < r ? A.lower : A.upper;
+      part.column.push_back(c);
+      part.value.push_back(it.value() / (root_diagonal_[i] * root_diagonal_[it.row()]));
+    }
+    A.lower.begin[r + 1] = static_cast<int>(A.lower.column.size());
+    A.upper.begin[r + 1] = static_cast<int>(A.upper.column.size());
+  }
+  return true;
+}
+
+bool LaplacianMultigrid::build(const Eigen::SparseMatrix<double>& L) {
+  usable_ = false;
+  multigrid_ = Multigrid();
+  work_ = MultigridWorkspace();
+  SplitCsr A;
+  if (!scale(L, A)) return false;
+  multigrid_.build(std::move(A));
+  usable_ = multigrid_.usable();
+  return usable_;
+}
+
+bool LaplacianMultigrid::update(const Eigen::SparseMatrix<double>& L) {
+  if (multigrid_.empty() || static_cast<int>(order_.size()) != L.rows()) return build(L);
+  SplitCsr A;
+  usable_ = false;
+  if (!scale(L, A)) return false;
+  multigrid_.rebuildWithSameAggregates(std::move(A));
+  usable_ = multigrid_.usable();
+  return usable_;
+}
+
+// With S = diag(L)^(1/2), L x = b is A y = S^-1 b with A = S^-1 L S^-1 and x = S^-1 y.
+bool LaplacianMultigrid::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, double tolerance,
+                               int max_iterations) const {
+  const int n = static_cast<int>(order_.size());
+  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> bn(n, 2), yn(n, 2);
+  for (int r = 0; r < n; ++r) {
+    const int i = order_[r];
+    bn.row(r) = b.row(i) / root_diagonal_[i];
+    yn.row(r) = x.row(i) * root_diagonal_[i];
+  }
+  const KrylovOutcome outcome =
+      solveBiCgStab<2>(multigrid_, bn.data(), yn.data(), tolerance, max_iterations);
+  if (!outcome.converged) return false;
+  for (int r = 0; r < n; ++r) x.row(order_[r]) = yn.row(r) / root_diagonal_[order_[r]];
+  return true;
+}
+
+void LaplacianMultigrid::applyCycle(const double* r, double* z) const {
+  const int n = static_cast<int>(order_.size());
+  if (static_cast<int>(work_.x.size()) != multigrid_.levelCount())
+    work_ = multigrid_.makeWorkspace(2);
+  in_.resize(2 * static_cast<size_t>(n));
+  out_.resize(2 * static_cast<size_t>(n));
+  for (int p = 0; p < n; ++p) {
+    const int i = order_[p];
+    in_[2 * p] = r[2 * i] / root_diagonal_[i];
+    in_[2 * p + 1] = r[2 * i + 1] / root_diagonal_[i];
+  }
+  multigrid_.cycle<2>(in_.data(), out_.data(), work_);
+  for (int p = 0; p < n; ++p) {
+    const int i = order_[p];
+    z[2 * i] = out_[2 * p] / root_diagonal_[i];
+    z[2 * i + 1] = out_[2 * p + 1] / root_diagonal_[i];
+  }
+}
+
+}  // namespace sdp

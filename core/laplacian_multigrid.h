@@ -1,0 +1,48 @@
+// The project's multigrid (multigrid.h) for a symmetric matrix L with a positive diagonal and
+// non-positive off-diagonal entries (a weighted graph Laplacian, plus a diagonal): the rows are
+// put in breadth-first order (neighbours close in memory, as in solve.cpp) and scaled on both
+// sides by the diagonal's square root, which gives the unit-diagonal M-matrix the hierarchy is
+// built for and keeps it symmetric (dividing rows alone made coarse diagonals negative where
+// the diagonal varies 50-fold, as in the Newton proxy). Used to
+// solve the ARAP global step (free_boundary.cpp) and to precondition the Newton steps on large
+// patches (stretch_newton.cpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "multigrid.h"
+
+namespace sdp {
+
+class LaplacianMultigrid {
+ public:
+  // Builds the hierarchy for L (n x n, symmetric pattern). Returns usable().
+  bool build(const Eigen::SparseMatrix<double>& L);
+  // New values on the pattern build() saw: keeps the aggregates (Multigrid's
+  // rebuildWithSameAggregates). Returns usable().
+  bool update(const Eigen::SparseMatrix<double>& L);
+  // False when a row had no positive diagonal or coarsening stalled.
+  bool usable() const { return usable_; }
+
+  // Solves L x = b (BiCGSTAB, x is the start) to the relative residual `tolerance`; false when
+  // it did not converge within `max_iterations`.
+  bool solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, double tolerance,
+             int max_iterations) const;
+  // z = one multigrid cycle for L z = r on two columns interleaved per row (r[2i], r[2i + 1]):
+  // an approximate inverse of L on u and v at once.
+  void applyCycle(const double* r, double* z) const;
+
+ private:
+  bool scale(const Eigen::SparseMatrix<double>& L, SplitCsr& A);
+
+  std::vector<int> order_;             // breadth-first position -> row of L
+  std::vector<double> root_diagonal_;  // square root of L's diagonal, per row
+  Multigrid multigrid_;
+  bool usable_ = false;
+  mutable MultigridWorkspace work_;
+  mutable std::vector<double> in_, out_;  // applyCycle's vectors in breadth-first order
+};
+
+}  // namespace sdp
