@@ -35,6 +35,9 @@ struct StretchNewtonSettings {
   // Relative residual of the conjugate gradients: a truncated Newton step (any iterate
   // descends; the line search makes it safe).
   double cg_tolerance = 1e-2;
+  // The tolerance is rarely met (the proxy drops the u-v coupling): this cap decides. At 103k
+  // vertices, K = 10 without a time limit, 10 / 20 / 40 iterations gave L2 1.283 / 1.279 /
+  // 1.298 (40: longer steps that soon gained under 0.1%) in 3.5 / 5.1 / 4.9 s.
   int cg_max_iterations = 20;
 };
 
