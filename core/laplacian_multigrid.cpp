@@ -4,26 +4,28 @@
 
 namespace sdp {
 
+void LaplacianMultigrid::orderBreadthFirst(const Eigen::SparseMatrix<double>& L) {
+  const int n = static_cast<int>(L.rows());
+  std::vector<bool> placed(n, false);
+  order_.clear();
+  order_.reserve(n);
+  for (int seed = 0; seed < n; ++seed) {
+    if (placed[seed]) continue;
+    placed[seed] = true;
+    order_.push_back(seed);
+    for (size_t head = order_.size() - 1; head < order_.size(); ++head)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(L, order_[head]); it; ++it)
+        if (!placed[it.row()]) {
+          placed[it.row()] = true;
+          order_.push_back(static_cast<int>(it.row()));
+        }
+  }
+}
+
 bool LaplacianMultigrid::scale(const Eigen::SparseMatrix<double>& L, SplitCsr& A) {
   const int n = static_cast<int>(L.rows());
-  std::vector<int> new_of(n, -1);
-  if (static_cast<int>(order_.size()) != n) {
-    order_.clear();
-    order_.reserve(n);
-    for (int seed = 0; seed < n; ++seed) {
-      if (new_of[seed] >= 0) continue;
-      new_of[seed] = static_cast<int>(order_.size());
-      order_.push_back(seed);
-      for (size_t head = order_.size() - 1; head < order_.size(); ++head)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(L, order_[head]); it; ++it)
-          if (new_of[it.row()] < 0) {
-            new_of[it.row()] = static_cast<int>(order_.size());
-            order_.push_back(static_cast<int>(it.row()));
-          }
-    }
-  } else {
-    for (int r = 0; r < n; ++r) new_of[order_[r]] = r;
-  }
+  std::vector<int> new_of(n);
+  for (int r = 0; r < n; ++r) new_of[order_[r]] = r;
   root_diagonal_.assign(n, 0.0);
   for (int i = 0; i < n; ++i) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it)
@@ -56,6 +58,7 @@ bool LaplacianMultigrid::build(const Eigen::SparseMatrix<double>& L) {
   usable_ = false;
   multigrid_ = Multigrid();
   work_ = MultigridWorkspace();
+  orderBreadthFirst(L);
   SplitCsr A;
   if (!scale(L, A)) return false;
   multigrid_.build(std::move(A));

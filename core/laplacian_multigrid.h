@@ -35,6 +35,8 @@ class LaplacianMultigrid {
   void applyCycle(const double* r, double* z) const;
 
  private:
+  void orderBreadthFirst(const Eigen::SparseMatrix<double>& L);  // sets order_
+  // A = L in order_, scaled to a unit diagonal; false when a diagonal entry is not positive.
   bool scale(const Eigen::SparseMatrix<double>& L, SplitCsr& A);
 
   std::vector<int> order_;             // breadth-first position -> row of L

@@ -446,7 +446,7 @@ class Pipeline {
     const RefineBudget newton_budget = newBudget();
     // Without the sparse factor a Newton step costs about three reweighting solves (1.9 vs
     // 0.65 s at 414k vertices, 8 vs 2.7 s at 1.65M): not set up when it would overrun.
-    if (patch_.real_vertex_count > StretchNewtonSettings().direct_up_to)
+    if (stretchNewtonIsMatrixFree(patch_.real_vertex_count))
       newton_budget.step_seconds = 3 * reweighting.step_seconds;
     uv_ = minimizeStretchWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_,
                                           newton, progress_, newton_budget);

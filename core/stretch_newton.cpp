@@ -207,43 +207,28 @@ class MatrixFreeNewtonSystem {
   // multigrid could be built on the proxy.
   bool update(const LocalUVs& uv, const Energy& energy, Eigen::VectorXd& gradient) {
     const int n = patch_.real_vertex_count;
-    const int faces = patch_.real_face_count;
-    const int workers = parallelWorkers();
-    std::vector<Eigen::VectorXd> partial(workers, Eigen::VectorXd::Zero(2 * n));
-    std::vector<double> trace(workers, 0.0);
-    parallelFor(faces, 4096, [&](int begin, int end, int worker) {
-      Eigen::VectorXd& g = partial[worker];
-      for (int f = begin; f < end; ++f) {
-        const FaceFrame& frame = frames_[f];
-        if (frame.area == 0) {
-          hessian_[f].setZero();
-          continue;
-        }
-        const auto& t = patch_.face[f];
-        Eigen::Vector4d dJ;
-        faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, hessian_[f]);
-        scatter(frame, t, dJ, g);
-        const Eigen::Matrix2d uu = hessian_[f].topLeftCorner<2, 2>();
-        const Eigen::Matrix2d vv = hessian_[f].bottomRightCorner<2, 2>();
-        for (int k = 0; k < 3; ++k) trace[worker] += frame.g[k].dot((uu + vv) * frame.g[k]);
-      }
+    sumOverFaces(gradient, [&](int f, Eigen::VectorXd& out) {
+      Eigen::Vector4d dJ;
+      faceNewtonTerms(frames_[f], jacobian(frames_[f], patch_.face[f], uv), energy, dJ,
+                      hessian_[f]);
+      scatter(frames_[f], patch_.face[f], dJ, out);
     });
-    gradient = partial[0];
-    for (int w = 1; w < workers; ++w) gradient += partial[w];
-    double total_trace = 0;
-    for (double t : trace) total_trace += t;
-    shift_ = 1e-8 * total_trace / (2 * n);  // as in assembleNewtonSystem
 
     double* value = proxy_.valuePtr();
     std::fill(value, value + proxy_.nonZeros(), 0.0);
-    for (int f = 0; f < faces; ++f) {
+    double proxy_trace = 0;  // half the trace of H: M is the mean of the u-u and v-v blocks
+    for (int f = 0; f < patch_.real_face_count; ++f) {
       if (frames_[f].area == 0) continue;
       const Eigen::Matrix2d M =
           0.5 * (hessian_[f].topLeftCorner<2, 2>() + hessian_[f].bottomRightCorner<2, 2>());
       for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          value[slot_[f][3 * a + b]] += frames_[f].g[a].dot(M * frames_[f].g[b]);
+        for (int b = 0; b < 3; ++b) {
+          const double entry = frames_[f].g[a].dot(M * frames_[f].g[b]);
+          value[slot_[f][3 * a + b]] += entry;
+          if (a == b) proxy_trace += entry;
+        }
     }
+    shift_ = 1e-8 * (2 * proxy_trace) / (2 * n);  // as in assembleNewtonSystem
     // A positive entry p at (i, j) is moved onto the diagonal at i and j: the proxy grows by
     // p (e_i - e_j)(e_i - e_j)^T, so it stays positive semi-definite and becomes a weighted
     // graph Laplacian (rows summing to zero) plus the shift.
@@ -265,27 +250,17 @@ class MatrixFreeNewtonSystem {
 
   // y = H x (H as assembleNewtonSystem would assemble it).
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    const int n = patch_.real_vertex_count;
-    const int workers = parallelWorkers();
-    partial_.resize(workers);
-    parallelFor(patch_.real_face_count, 4096, [&](int begin, int end, int worker) {
-      Eigen::VectorXd& out = partial_[worker];
-      out.setZero(2 * n);
-      for (int f = begin; f < end; ++f) {
-        const FaceFrame& frame = frames_[f];
-        if (frame.area == 0) continue;
-        const auto& t = patch_.face[f];
-        Eigen::Vector4d Dx = Eigen::Vector4d::Zero();
-        for (int k = 0; k < 3; ++k) {
-          Dx.head<2>() += x[2 * t[k]] * frame.g[k];
-          Dx.tail<2>() += x[2 * t[k] + 1] * frame.g[k];
-        }
-        scatter(frame, t, hessian_[f] * Dx, out);
+    sumOverFaces(y, [&](int f, Eigen::VectorXd& out) {
+      const FaceFrame& frame = frames_[f];
+      const auto& t = patch_.face[f];
+      Eigen::Vector4d Dx = Eigen::Vector4d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        Dx.head<2>() += x[2 * t[k]] * frame.g[k];
+        Dx.tail<2>() += x[2 * t[k] + 1] * frame.g[k];
       }
+      scatter(frame, t, hessian_[f] * Dx, out);
     });
-    y = shift_ * x;
-    for (int w = 0; w < workers; ++w)
-      if (partial_[w].size() == y.size()) y += partial_[w];
+    y += shift_ * x;
   }
 
   // Truncated preconditioned conjugate gradients for H d = -gradient from d = 0, to the
@@ -330,9 +305,24 @@ class MatrixFreeNewtonSystem {
     }
   }
 
+  // total = the sum over the faces with area of face(f, out), each face adding into `out`;
+  // the faces are split between the cores, each core adding into a vector of its own.
+  template <class Face>
+  void sumOverFaces(Eigen::VectorXd& total, Face&& face) const {
+    const int size = 2 * patch_.real_vertex_count;
+    partial_.resize(parallelWorkers());
+    for (Eigen::VectorXd& p : partial_) p.setZero(size);
+    parallelFor(patch_.real_face_count, 4096, [&](int begin, int end, int worker) {
+      for (int f = begin; f < end; ++f)
+        if (frames_[f].area != 0) face(f, partial_[worker]);
+    });
+    total = partial_[0];
+    for (size_t w = 1; w < partial_.size(); ++w) total += partial_[w];
+  }
+
   const Patch& patch_;
   const std::vector<FaceFrame>& frames_;
-  std::vector<Eigen::Matrix4d> hessian_;
+  std::vector<Eigen::Matrix4d> hessian_;  // per face with area (the others are never read)
   std::vector<std::array<int, 9>> slot_;
   Eigen::SparseMatrix<double> proxy_;
   LaplacianMultigrid preconditioner_;
@@ -342,6 +332,10 @@ class MatrixFreeNewtonSystem {
 
 }  // namespace
 
+bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings) {
+  return vertices > settings.direct_up_to;
+}
+
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
                                          StretchMetrics& metrics, StretchNewtonCounts& counts,
                                          const Progress& progress, const RefineBudget& budget,
@@ -350,7 +344,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
   if (budget.expired()) return uv;
-  const bool direct = n <= settings.direct_up_to;
+  const bool direct = !stretchNewtonIsMatrixFree(n, settings);
   std::optional<CheckedDescent> descent;  // made inside the try: its allocations may fail too
   try {
     const double total_area = patchArea3d(patch);

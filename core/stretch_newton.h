@@ -41,6 +41,9 @@ struct StretchNewtonSettings {
   int cg_max_iterations = 20;
 };
 
+// True when a patch of `vertices` real vertices takes the conjugate-gradient path.
+bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings = {});
+
 struct StretchNewtonCounts {
   int steps_taken = 0;
   int cg_iterations = 0;  // summed over the steps (0 on the direct path)
