@@ -3,6 +3,8 @@
 #include <chrono>
 #include <utility>
 
+#include "work.h"
+
 namespace sdp {
 
 CheckedDescent::CheckedDescent(const Patch& patch, const LocalUVs& start, StretchMetrics& metrics,
@@ -18,14 +20,21 @@ CheckedDescent::CheckedDescent(const Patch& patch, const LocalUVs& start, Stretc
 
 bool CheckedDescent::beginStep(int step, int steps) {
   progress_.report(stage_, step, steps);
+  if (stepped_) {
+    budget_.step_work = step_work_;
+    budget_.step_seconds =
+        std::chrono::duration<double>(RefineBudget::Clock::now() - step_start_).count();
+  }
   if (budget_.expired()) return false;
+  stepped_ = true;
+  step_work_ = 0;
   step_start_ = RefineBudget::Clock::now();
   return true;
 }
 
-void CheckedDescent::recordStepTime() const {
-  budget_.step_seconds =
-      std::chrono::duration<double>(RefineBudget::Clock::now() - step_start_).count();
+void CheckedDescent::addWork(double work) {
+  step_work_ += work;
+  budget_.charge(work);
 }
 
 CheckedDescent::Outcome CheckedDescent::tryStep(
@@ -34,10 +43,17 @@ CheckedDescent::Outcome CheckedDescent::tryStep(
   const int n = patch_.real_vertex_count;
   Outcome outcome;
   candidate_ = current_;  // the entries no step moves (hole fills) as in current()
+  const double faces = patch_.real_face_count;
   for (int halvings = 0; halvings <= max_halvings; ++halvings, length *= 0.5) {
     for (int v = 0; v < n; ++v) candidate_[v] = current_[v] + length * direction[v];
+    addWork(n * WorkCosts::kVectorEntry);
     if (admit && !admit(candidate_, length)) continue;
-    if (flippedFaceCount(patch_, candidate_) > 0 || !edgesAreSimple(border_, candidate_)) continue;
+    addWork(faces * WorkCosts::kFlipCheckFace);
+    if (flippedFaceCount(patch_, candidate_) > 0) continue;
+    // The sweep sorts the border edges, then tests the few whose x ranges overlap.
+    addWork(20.0 * border_.size() * WorkCosts::kNonzero);
+    if (!edgesAreSimple(border_, candidate_)) continue;
+    addWork(faces * WorkCosts::kMetricsFace);
     StretchMetrics measured = stretchMetrics(patch_, candidate_);
     if (measured.flipped_faces > 0) continue;  // the same rule; kept as the last word
     outcome.taken = true;

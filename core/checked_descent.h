@@ -1,6 +1,6 @@
 // The skeleton both free-boundary refinements share (free_boundary.h's as-rigid-as-possible
 // steps, stretch_newton.h's Newton steps), written once: each step asks for progress and the
-// time budget, proposes a direction, and is then tried at decreasing lengths until the map stays
+// work budget, proposes a direction, and is then tried at decreasing lengths until the map stays
 // one-to-one (no face flipped or collapsed, the boundary not crossing itself) and passes the
 // method's own test; the map with the lowest L2 stretch is kept. Virtual hole-fill vertices
 // (index >= real_vertex_count) never move.
@@ -25,10 +25,12 @@ class CheckedDescent {
                  const RefineBudget& budget, const Progress& progress, Stage stage);
 
   // Before step `step` of `steps`: reports progress (throws when the user cancels) and returns
-  // false when the time budget has no room for another step. Starts the step's clock.
+  // false when the budget has no room for another step. The previous step's work (and time)
+  // is the budget's prediction for this one; the first step's prediction is the caller's.
   bool beginStep(int step, int steps);
-  // The step's time so far becomes the budget's prediction for the next one.
-  void recordStepTime() const;
+  // Work (work.h) the method did for the current step (its direction); tryStep() counts its
+  // own checks.
+  void addWork(double work);
 
   struct Outcome {
     bool taken = false;   // a length passed every check; current() moved
@@ -55,6 +57,8 @@ class CheckedDescent {
   std::vector<BorderEdge> border_;  // the same for every check
   LocalUVs current_, candidate_, best_;
   RefineBudget::Clock::time_point step_start_;
+  bool stepped_ = false;  // a step has begun
+  double step_work_ = 0;  // the current step's work so far
 };
 
 }  // namespace sdp

@@ -3,6 +3,7 @@
 #include "checked_descent.h"
 #include "geometry.h"
 #include "laplacian_multigrid.h"
+#include "work.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
@@ -99,27 +100,36 @@ class GlobalSolver {
     L_.setFromTriplets(entries.begin(), entries.end());
     if (n < 1000) return;  // LU territory in solve.h too
     iterative_ = multigrid_.build(L_);
+    spent_work_ = multigrid_.spentWork();
   }
 
   bool solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x) {
     if (iterative_) {
-      if (multigrid_.solve(b, x, 1e-8, 100)) return true;
+      const double before = multigrid_.spentWork();
+      const bool solved = multigrid_.solve(b, x, 1e-8, 100);
+      spent_work_ += multigrid_.spentWork() - before;
+      if (solved) return true;
       iterative_ = false;
       multigrid_ = LaplacianMultigrid();
     }
     if (!cholesky_) {
       cholesky_ = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(L_);
       if (cholesky_->info() != Eigen::Success) return false;
+      spent_work_ += factorizationWork(cholesky_->matrixL().nestedExpression());
     }
     x = cholesky_->solve(b);
+    spent_work_ += 2 * substitutionWork(cholesky_->matrixL().nestedExpression());
     return cholesky_->info() == Eigen::Success && x.allFinite();
   }
+  // Work (work.h) of the setup and every solve so far.
+  double spentWork() const { return spent_work_; }
 
  private:
   Eigen::SparseMatrix<double> L_;
   LaplacianMultigrid multigrid_;
   bool iterative_ = false;
   std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> cholesky_;
+  double spent_work_ = 0;
 };
 
 // The ARAP local step and the global step's right-hand side: the rotation closest to each
@@ -219,6 +229,9 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
       }
     GlobalSolver global(n - 1, entries);
     std::vector<Eigen::Triplet<double>>().swap(entries);
+    // The setup: flat faces, the matrix from its 12 entries per face, the solver's hierarchy.
+    budget.charge(faces * (WorkCosts::kArapLocalFace + 24 * WorkCosts::kNonzero) +
+                  global.spentWork());
     Eigen::MatrixX2d solved(n - 1, 2);
     Eigen::MatrixX2d rhs(n - 1, 2);
     LocalUVs direction(uv.size(), Eigen::Vector2d::Zero());  // the pinned vertex stays
@@ -231,7 +244,10 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
       arapRightHandSide(patch, flat, current, pinned, rhs);
       for (int v = 0; v < n; ++v)
         if (v != pinned) solved.row(unknown(v)) = current[v].transpose();
-      if (!global.solve(rhs, solved)) break;
+      const double solver_work = global.spentWork();
+      const bool solved_ok = global.solve(rhs, solved);
+      descent.addWork(faces * WorkCosts::kArapLocalFace + global.spentWork() - solver_work);
+      if (!solved_ok) break;
       for (int v = 0; v < n; ++v)
         if (v != pinned) direction[v] = solved.row(unknown(v)).transpose() - current[v];
 
@@ -242,7 +258,6 @@ LocalUVs relaxWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps
         if (outcome.halvings > 0) ++counts.steps_shortened;
         steps_without_gain = outcome.gained ? 0 : steps_without_gain + 1;
       }
-      descent.recordStepTime();
       if (steps_without_gain >= 2) break;
       if (!outcome.taken) {
         counts.stopped = true;

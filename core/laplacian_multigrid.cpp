@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "work.h"
+
 namespace sdp {
 
 void LaplacianMultigrid::orderBreadthFirst(const Eigen::SparseMatrix<double>& L) {
@@ -21,6 +23,13 @@ void LaplacianMultigrid::orderBreadthFirst(const Eigen::SparseMatrix<double>& L)
         }
   }
 }
+
+namespace {
+// Reordering and scaling L: about one sparse pass with scattered reads.
+double scaleWork(const Eigen::SparseMatrix<double>& L) {
+  return 4.0 * static_cast<double>(L.nonZeros()) * WorkCosts::kNonzero;
+}
+}  // namespace
 
 bool LaplacianMultigrid::scale(const Eigen::SparseMatrix<double>& L, SplitCsr& A) {
   const int n = static_cast<int>(L.rows());
@@ -62,6 +71,7 @@ bool LaplacianMultigrid::build(const Eigen::SparseMatrix<double>& L) {
   SplitCsr A;
   if (!scale(L, A)) return false;
   multigrid_.build(std::move(A));
+  spent_work_ += multigrid_.setupWork(false) + scaleWork(L);
   usable_ = multigrid_.usable();
   return usable_;
 }
@@ -72,6 +82,7 @@ bool LaplacianMultigrid::update(const Eigen::SparseMatrix<double>& L) {
   usable_ = false;
   if (!scale(L, A)) return false;
   multigrid_.rebuildWithSameAggregates(std::move(A));
+  spent_work_ += multigrid_.setupWork(true) + scaleWork(L);
   usable_ = multigrid_.usable();
   return usable_;
 }
@@ -88,6 +99,8 @@ bool LaplacianMultigrid::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, d
   }
   const KrylovOutcome outcome =
       solveBiCgStab<2>(multigrid_, bn.data(), yn.data(), tolerance, max_iterations);
+  spent_work_ +=
+      (outcome.iterations + 1) * multigrid_.iterationWork() + 4.0 * n * WorkCosts::kVectorEntry;
   if (!outcome.converged) return false;
   for (int r = 0; r < n; ++r) x.row(order_[r]) = yn.row(r) / root_diagonal_[order_[r]];
   return true;
@@ -105,6 +118,7 @@ void LaplacianMultigrid::applyCycle(const double* r, double* z) const {
     in_[2 * p + 1] = r[2 * i + 1] / root_diagonal_[i];
   }
   multigrid_.cycle<2>(in_.data(), out_.data(), work_);
+  spent_work_ += multigrid_.cycleWork() + 4.0 * n * WorkCosts::kVectorEntry;
   for (int p = 0; p < n; ++p) {
     const int i = order_[p];
     z[2 * i] = out_[2 * p] / root_diagonal_[i];

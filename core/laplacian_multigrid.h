@@ -33,6 +33,8 @@ class LaplacianMultigrid {
   // z = one multigrid cycle for L z = r on two columns interleaved per row (r[2i], r[2i + 1]):
   // an approximate inverse of L on u and v at once.
   void applyCycle(const double* r, double* z) const;
+  // Work (work.h) of all the calls so far: setup, iterations, cycles.
+  double spentWork() const { return spent_work_; }
 
  private:
   void orderBreadthFirst(const Eigen::SparseMatrix<double>& L);  // sets order_
@@ -45,6 +47,7 @@ class LaplacianMultigrid {
   bool usable_ = false;
   mutable MultigridWorkspace work_;
   mutable std::vector<double> in_, out_;  // applyCycle's vectors in breadth-first order
+  mutable double spent_work_ = 0;
 };
 
 }  // namespace sdp

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "parallel.h"
+#include "work.h"
 
 namespace sdp {
 namespace {
@@ -412,6 +413,42 @@ double Multigrid::operatorComplexity() const {
   double total = 0;
   for (const Level& l : levels_) total += static_cast<double>(l.A.nonZeros());
   return total / static_cast<double>(levels_.front().A.nonZeros());
+}
+
+double Multigrid::cycleWork() const {
+  // Visits per level as cycleFrom makes them: cycle_index per visit of the level above, but the
+  // coarsest level once per visit of its parent (no W-cycle repeat above it).
+  const int levels = levelCount();
+  double visits = 1, work = 0;
+  for (int l = 0; l < levels; ++l) {
+    const Level& level = levels_[l];
+    if (l + 1 == levels) {  // dense LU back-substitution
+      const double n = level.A.size;
+      work += visits * n * n * WorkCosts::kNonzero;
+      break;
+    }
+    // Two Gauss-Seidel sweeps, the residual, restriction and prolongation, and on W-cycles the
+    // coarse level's residual products.
+    const double coarse_repeats = l + 2 < levels ? settings_.cycle_index - 1 : 0;
+    work += visits * WorkCosts::kNonzero *
+            (2.0 * level.A.nonZeros() + 2.0 * level.P.column.size() +
+             coarse_repeats * levels_[l + 1].A.nonZeros());
+    if (l + 2 < levels) visits *= settings_.cycle_index;
+  }
+  return work;
+}
+
+double Multigrid::iterationWork() const {
+  return 2 * cycleWork() + 2.0 * fine().nonZeros() * WorkCosts::kNonzero +
+         12.0 * fine().size * WorkCosts::kVectorEntry;
+}
+
+double Multigrid::setupWork(bool same_aggregates) const {
+  double nonzeros = 0;
+  for (const Level& l : levels_) nonzeros += static_cast<double>(l.A.nonZeros());
+  const double coarsest = levels_.empty() ? 0 : levels_.back().A.size;
+  return nonzeros * (same_aggregates ? WorkCosts::kRebuildNonzero : WorkCosts::kSetupNonzero) +
+         coarsest * coarsest * coarsest / 3 * WorkCosts::kFactorFlop;
 }
 
 long long Multigrid::memoryBytes() const {

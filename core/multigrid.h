@@ -87,6 +87,12 @@ class Multigrid {
   const SplitCsr& levelMatrix(int level) const { return levels_[level].A; }
   double operatorComplexity() const;  // sum of nnz over all levels / nnz of level 0
   long long memoryBytes() const;
+  // Work (work.h) of one cycle on u and v, of one BiCGSTAB iteration (two cycles, two products,
+  // the vector updates), and of build() or rebuildWithSameAggregates(): from the hierarchy's
+  // sizes alone.
+  double cycleWork() const;
+  double iterationWork() const;
+  double setupWork(bool same_aggregates) const;
 
   // x = one cycle applied to b (from a zero start); K right-hand sides interleaved.
   template <int K>

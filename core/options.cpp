@@ -1,6 +1,7 @@
 #include "options.h"
 
 #include "refine_budget.h"
+#include "work.h"
 
 namespace sdp {
 namespace {
@@ -16,7 +17,8 @@ const char* const kWeightNames[] = {"straightest", "ltd", "floater", "mean_value
 const char* const kBoundaryNames[] = {"measured", "circle", "square"};
 const char* const kSourceRuleNames[] = {"farthest", "centroid"};
 // In enum order (refine_budget.h, options.h).
-const char* const kRefineStopNames[] = {"not run", "iterations", "converged", "time budget"};
+const char* const kRefineStopNames[] = {"not run", "iterations", "converged", "work budget",
+                                        "time limit"};
 const char* const kStorageNames[] = {"double", "float", "float, 6 decimals"};
 
 }  // namespace
@@ -34,8 +36,8 @@ const char* sourceRuleName(SourceRule r) {
 Options productDefaults() {
   Options options;
   options.stretch_iterations = kDefaultStretchIterations;
-  options.refine_time_factor = kDefaultRefineTimeFactor;
-  options.refine_min_seconds = kDefaultRefineMinSeconds;
+  options.refine_work_factor = kDefaultRefineWorkFactor;
+  options.refine_min_work = kMinRefineWork;
   return options;
 }
 

@@ -35,12 +35,12 @@ std::optional<SourceRule> parseSourceRule(const std::string& name);
 // the run (the core then throws ParameterizationError("cancelled")).
 using ProgressCallback = std::function<bool(const char* stage, int percent)>;
 
-// The product's defaults for every front end (dialog, pymeshlab, CLI): refined, with a time
-// budget of twice the linear map's time (so at most about 3x its cost on large patches), and at
-// least 1.5 s, so small and medium patches are refined to convergence.
+// The product's defaults for every front end (dialog, pymeshlab, CLI): refined, with a work
+// budget of twice the linear map's work (work.h: counted, not timed, so the same map on every
+// run; at most about 3x the linear map's cost on large patches), and at least kMinRefineWork,
+// so small and medium patches are refined to convergence.
 constexpr int kDefaultStretchIterations = 10;
-constexpr double kDefaultRefineTimeFactor = 2.0;
-constexpr double kDefaultRefineMinSeconds = 1.5;
+constexpr double kDefaultRefineWorkFactor = 2.0;
 
 struct Options {
   WeightScheme weights = WeightScheme::Straightest;
@@ -57,12 +57,14 @@ struct Options {
   // (free_boundary.h), each checked to keep the map one-to-one. Circle and square stay as asked.
   bool free_boundary = true;
   // When refinement stops before stretch_iterations (refine_budget.h): a step lowering L2 by
-  // less than this relative amount ends its loop; refinement ends once it has run
-  // max(refine_min_seconds, refine_time_factor x the linear map's time). 0: no time limit
-  // (deterministic). The front ends use kDefaultRefine* below.
+  // less than this relative amount ends its loop; refinement ends once it has done
+  // max(refine_min_work, refine_work_factor x the linear map's work) (work.h). 0: no work limit.
+  // Either way the same options give the same map on every run. time_limit_seconds > 0 adds a
+  // wall-clock limit, which makes the map depend on the machine's speed and load.
   double refine_min_gain = 1e-3;
-  double refine_time_factor = 0;
-  double refine_min_seconds = 0;
+  double refine_work_factor = 0;
+  double refine_min_work = 0;
+  double time_limit_seconds = 0;
   // The frame and precision of the returned UVs: fitted (aspect kept) so the faces span [0,1] on
   // the longer side, or the core's natural scale (3D units); rounded to what the storage holds,
   // and repaired where rounding would degenerate a face.

@@ -53,6 +53,19 @@ void parallelFor(int n, int min_chunk, Body&& body) {
     if (e) std::rethrow_exception(e);
 }
 
+// Calls body(begin, end, slot) for `slots` contiguous ranges covering [0, n), shared out between
+// the workers. The ranges depend on n and `slots` alone, never on the number of cores: partial
+// sums kept per slot and added in slot order give the same bits on any machine.
+template <class Body>
+void parallelForSlots(int n, int slots, Body&& body) {
+  slots = std::max(slots, 1);
+  parallelFor(slots, 1, [&](int first, int last, int) {
+    for (int s = first; s < last; ++s)
+      body(static_cast<int>(static_cast<long long>(n) * s / slots),
+           static_cast<int>(static_cast<long long>(n) * (s + 1) / slots), s);
+  });
+}
+
 // Runs `task` on the calling thread while the other workers take chunks of [0, n) from a shared
 // counter (body(begin, end, worker) as above); the calling thread joins in on the chunks once
 // its task is done. For two independent stages of unequal length (the boundary alongside the

@@ -18,6 +18,7 @@
 #include "storage.h"
 #include "stretch_newton.h"
 #include "weights.h"
+#include "work.h"
 
 namespace sdp {
 namespace {
@@ -41,15 +42,19 @@ class StageClock {
     else
       report_.stage_seconds.emplace_back(stage, seconds);
   }
-  // Seconds spent so far in `stage` (0 if it has not run).
-  double seconds(const std::string& stage) {
-    const double* total = find(stage);
-    return total ? *total : 0;
+  // Work (work.h) done in `stage`, added to the report's stage_work.
+  void addWork(const std::string& stage, double work) {
+    if (double* total = find(report_.stage_work, stage))
+      *total += work;
+    else
+      report_.stage_work.emplace_back(stage, work);
   }
 
  private:
-  double* find(const std::string& stage) {
-    for (auto& entry : report_.stage_seconds)
+  double* find(const std::string& stage) { return find(report_.stage_seconds, stage); }
+  static double* find(std::vector<std::pair<std::string, double>>& stages,
+                      const std::string& stage) {
+    for (auto& entry : stages)
       if (entry.first == stage) return &entry.second;
     return nullptr;
   }
@@ -163,7 +168,7 @@ namespace {
 //   solveOneToOne       the linear solve (§2), which owns tightening and the circle / uniform
 //                       fallbacks: it returns a one-to-one map or refuses
 //   refine              reweighting, then with the measured boundary ARAP and Newton steps, all
-//                       under one time budget (§4)
+//                       under one work budget (§4, work.h)
 //   countFallbacks      the report's counts and warnings
 //   store               the frame and precision of the front end, repaired and measured (§5)
 class Pipeline {
@@ -185,6 +190,7 @@ class Pipeline {
     report().faces = patch_.real_face_count;
     report().holes_filled = patch_.holes_filled;
     report().unreferenced_vertices = static_cast<int>(V_.rows()) - patch_.real_vertex_count;
+    linearWork("topology", WorkCosts::kTopologyFace * (patch_.faceCount() + patch_.vertexCount()));
     shape_ = options_.boundary;
     source_ = userSource(patch_, static_cast<int>(V_.rows()), options_.source_vertex,
                          shape_ == BoundaryShape::Measured);
@@ -201,6 +207,8 @@ class Pipeline {
       clock_.add("boundary", std::chrono::duration<double>(Clock::now() - start).count());
     });
     clock_.end();
+    // The boundary runs alongside the weights on another core: only the weights count.
+    linearWork("weights", weightsWork());
   }
 
   // Never returns a folded map: first the circle (strictly convex in exact arithmetic), then
@@ -223,6 +231,7 @@ class Pipeline {
       ++report().boundary_fallbacks;
       WeightCounts ignored;
       weights_ = computeWeights(patch_, WeightScheme::Uniform, ignored);
+      linearWork("weights", weightsWork());
       solveAndMeasure();
     }
     if (metrics_.flipped_faces > 0)
@@ -235,15 +244,15 @@ class Pipeline {
 
   void refine() {
     if (options_.stretch_iterations <= 0) return;
-    // One deadline for the three loops (reweighting, ARAP, Newton); each loop has its own
-    // budget object, which records why it stopped and how long its last step took.
+    // One work budget for the three loops (reweighting, ARAP, Newton), counted on one meter;
+    // each loop has its own budget object, which records why it stopped and what its last step
+    // cost.
     refine_start_ = Clock::now();
-    if (options_.refine_time_factor > 0) {
-      const double linear = std::chrono::duration<double>(refine_start_ - run_start_).count();
-      budget_seconds_ = std::max(options_.refine_min_seconds, options_.refine_time_factor * linear);
-    }
+    if (options_.refine_work_factor > 0)
+      budget_work_ = std::max(options_.refine_min_work, options_.refine_work_factor * linear_work_);
     const RefineBudget reweighting = newBudget();
     reweight(reweighting);
+    clock_.addWork("refine", refine_meter_.spent);
     noteStop(reweighting);
     report().l2_stretch_fixed_boundary = metrics_.l2;
     // Only the measured boundary is let go: it stands for the patch's own outline, which this
@@ -252,6 +261,7 @@ class Pipeline {
     if (options_.free_boundary && options_.boundary == BoundaryShape::Measured)
       freeBoundary(reweighting);
     report().refinement_stop = refineStopName(stop_);
+    report().refinement_work = linear_work_ > 0 ? refine_meter_.spent / linear_work_ : 0;
   }
 
   void countFallbacks() {
@@ -372,21 +382,44 @@ class Pipeline {
       clock_.begin("metrics", Stage::Metrics);
       metrics_ = stretchMetrics(patch_, uv_);
       clock_.end();
+      solve_work_ += solver_->lastStats().work;
+      linearWork("solve", solver_->lastStats().work);
+      linearWork("metrics", metricsWork());
     } while (metrics_.flipped_faces > 0 && solver_->tighten());
   }
 
-  RefineBudget newBudget() const {
+  RefineBudget newBudget() {
     RefineBudget budget;
     budget.min_gain = options_.refine_min_gain;
-    if (std::isfinite(budget_seconds_))
-      budget.deadline = refine_start_ + std::chrono::duration_cast<Clock::duration>(
-                                            std::chrono::duration<double>(budget_seconds_));
+    budget.meter = &refine_meter_;
+    budget.work_limit = budget_work_;
+    if (options_.time_limit_seconds > 0)
+      budget.deadline =
+          refine_start_ + std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double>(options_.time_limit_seconds));
     return budget;
   }
 
-  // Why refinement ended: the time budget wins when any loop ran out of time.
+  // The work of the weights over every ring entry (straightest and LTD walk planes; the
+  // others are closed formulas).
+  double weightsWork() const {
+    const bool walks =
+        options_.weights == WeightScheme::Straightest || options_.weights == WeightScheme::Ltd;
+    return static_cast<double>(patch_.ring_vertex.size()) * WorkCosts::kWeightEntry *
+           (walks ? 1.0 : 0.25);
+  }
+  double metricsWork() const { return WorkCosts::kMetricsFace * patch_.real_face_count; }
+  void linearWork(const char* stage, double work) {
+    linear_work_ += work;
+    clock_.addWork(stage, work);
+  }
+
+  static bool outOfBudget(RefineStop stop) {
+    return stop == RefineStop::WorkBudget || stop == RefineStop::TimeLimit;
+  }
+  // Why refinement ended: running out of budget wins when any loop did.
   void noteStop(const RefineBudget& budget) {
-    if (budget.stop == RefineStop::TimeBudget || stop_ != RefineStop::TimeBudget)
+    if (outOfBudget(budget.stop) || !outOfBudget(stop_))
       stop_ = budget.stop == RefineStop::NotRun ? RefineStop::Iterations : budget.stop;
   }
 
@@ -394,11 +427,11 @@ class Pipeline {
   void reweight(const RefineBudget& budget) {
     // eta 0.5 reaches the lowest stretch in 5-10 steps, eta 1 gets most of the way in 2-3
     // (face.off, fixed boundary: L2 1.41 after 2 steps against 1.78). When the budget affords
-    // fewer than 6 steps (each costs about the linear solve), the faster one is used.
+    // fewer than 6 steps (each costs about the linear solve and its measure), the faster one
+    // is used.
     double eta = options_.stretch_exponent;
-    const double solve_seconds = clock_.seconds("solve");
-    if (std::isfinite(budget_seconds_) && solve_seconds > 0 &&
-        budget_seconds_ < kFewRefinementSteps * solve_seconds)
+    const double step_work = solve_work_ + metricsWork();
+    if (std::isfinite(budget_work_) && budget_work_ < kFewRefinementSteps * step_work)
       eta = std::max(eta, kFastStretchExponent);
 
     clock_.begin("refine", Stage::Refine);
@@ -410,12 +443,16 @@ class Pipeline {
       if (it > 1 && budget.expired()) break;
       const auto iteration_start = Clock::now();
       reweightByStretch(patch_, current.vertex_l2, eta, refined);
+      double work = 2.0 * patch_.ring_vertex.size() * WorkCosts::kNonzero;
       LocalUVs candidate;
       do {
         candidate = solver_->solve(refined, boundary_);
         current = stretchMetrics(patch_, candidate);
+        work += solver_->lastStats().work + metricsWork();
       } while (current.flipped_faces > 0 && solver_->tighten());
       report().stretch_iterations_run = it;
+      budget.charge(work);
+      budget.step_work = work;
       budget.step_seconds = std::chrono::duration<double>(Clock::now() - iteration_start).count();
       if (current.flipped_faces > 0) break;  // numerically folded: keep the best so far
       const bool gained = budget.gained(metrics_.l2, current.l2);
@@ -437,20 +474,29 @@ class Pipeline {
     FreeBoundaryCounts counts;
     const RefineBudget arap = newBudget();
     // The first ARAP step with its setup costs about three reweighting solves (2.5x measured
-    // at 1.65M vertices): not started when that would overrun the deadline.
+    // at 1.65M vertices): not started when that would overrun the budget.
+    arap.step_work = 3 * reweighting.step_work;
     arap.step_seconds = 3 * reweighting.step_seconds;
+    double spent = refine_meter_.spent;
     uv_ = relaxWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_, counts,
                                 progress_, arap);
     noteStop(arap);
+    clock_.addWork("free_boundary", refine_meter_.spent - spent);
+    clock_.end();
+    clock_.begin("newton", Stage::Newton);
+    spent = refine_meter_.spent;
     StretchNewtonCounts newton;
     const RefineBudget newton_budget = newBudget();
     // Without the sparse factor a Newton step costs about three reweighting solves (1.9 vs
     // 0.65 s at 414k vertices, 8 vs 2.7 s at 1.65M): not set up when it would overrun.
-    if (stretchNewtonIsMatrixFree(patch_.real_vertex_count))
+    if (stretchNewtonIsMatrixFree(patch_.real_vertex_count)) {
+      newton_budget.step_work = 3 * reweighting.step_work;
       newton_budget.step_seconds = 3 * reweighting.step_seconds;
+    }
     uv_ = minimizeStretchWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_,
                                           newton, progress_, newton_budget);
     noteStop(newton_budget);
+    clock_.addWork("newton", refine_meter_.spent - spent);
     report().free_boundary_steps = counts.steps_taken + newton.steps_taken;
     clock_.end();
   }
@@ -472,7 +518,10 @@ class Pipeline {
   LocalUVs uv_;
   StretchMetrics metrics_;
   Clock::time_point refine_start_;
-  double budget_seconds_ = std::numeric_limits<double>::infinity();
+  double linear_work_ = 0;  // work.h: everything before refinement
+  double solve_work_ = 0;   // the linear solves' work, to predict a reweighting step
+  double budget_work_ = std::numeric_limits<double>::infinity();
+  WorkMeter refine_meter_;
   RefineStop stop_ = RefineStop::Iterations;
 };
 

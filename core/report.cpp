@@ -147,8 +147,13 @@ const std::vector<ReportField>& reportFields() {
               "boundary stayed)",
               [](R r) { return double(r.free_boundary_steps); }),
       other("refinement_stop",
-            "why refinement ended: `iterations`, `converged`, `time budget`, or `not run`",
+            "why refinement ended: `iterations`, `converged`, `work budget`, `time limit` (the "
+            "command line's `--time-limit`), or `not run`",
             [](R r) { return jsonString(r.refinement_stop); }),
+      real("refinement_work",
+           "work the refinement did, as a multiple of the linear map's (counted from sizes and "
+           "iterations, not timed: the same on every run)",
+           [](R r) { return r.refinement_work; }),
       other("fallback_counts",
             "`straightest_to_ltd` (neighbours whose cutting plane crossed no far-side edge, given "
             "the LTD direction), `degenerate_rings` (vertices with a zero-area face or zero-length "
@@ -185,6 +190,15 @@ const std::vector<ReportField>& reportFields() {
               std::vector<std::pair<std::string, std::string>> members;
               for (const auto& [stage, seconds] : r.stage_seconds)
                 members.emplace_back(stage, jsonNumber(seconds));
+              return jsonObject(members);
+            }),
+      other("stage_work",
+            "work per stage in units of about a nanosecond of one core here, counted from sizes "
+            "and iterations (what the refinement budget counts; the same on every run)",
+            [](R r) {
+              std::vector<std::pair<std::string, std::string>> members;
+              for (const auto& [stage, work] : r.stage_work)
+                members.emplace_back(stage, jsonNumber(work));
               return jsonObject(members);
             }),
       other("warnings", "one line per fallback or notice (the CLI also prints them to stderr)",

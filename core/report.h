@@ -22,9 +22,11 @@ struct Report {
   double l2_stretch_linear = 0;          // L2 of the linear map before refinement
   double l2_stretch_fixed_boundary = 0;  // L2 after the reweighting, before the free boundary
   int free_boundary_steps = 0;           // free-boundary steps taken (0: the boundary stayed)
-  // Why refinement ended (refine_budget.h): "iterations", "converged" or "time budget" (the
-  // budget wins when any loop ran out of time); "not run" for the linear map.
+  // Why refinement ended (refine_budget.h): "iterations", "converged", "work budget" or "time
+  // limit" (running out wins when any loop did); "not run" for the linear map.
   std::string refinement_stop = "not run";
+  // Work (work.h) the refinement spent, as a multiple of the linear map's.
+  double refinement_work = 0;
   // Fallbacks, all counted; `fallbacks` is their sum.
   int fallbacks = 0;
   int straightest_to_ltd = 0;  // neighbours whose cutting plane crossed no far-side edge
@@ -41,8 +43,10 @@ struct Report {
   int storage_moved_vertices = 0;
   double seconds = 0;  // wall time of the parameterization (no file I/O)
   std::vector<std::pair<std::string, double>> stage_seconds;  // in run order
-  std::vector<std::string> warnings;                          // one line each, for logs
-  std::vector<std::string> notes;  // what was done that needs no action (e.g. a storage repair)
+  // Work (work.h) per stage, in run order: what the budget counts instead of seconds.
+  std::vector<std::pair<std::string, double>> stage_work;
+  std::vector<std::string> warnings;  // one line each, for logs
+  std::vector<std::string> notes;     // what was done that needs no action (e.g. a storage repair)
 
   // JSON object with a key per reportFields() row, in its order.
   std::string toJson() const;

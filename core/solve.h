@@ -60,6 +60,9 @@ struct SolverStats {
   long long hierarchy_bytes = 0;
   double setup_seconds = 0;  // assembly + hierarchy (or LU factorization)
   double solve_seconds = 0;  // iterations (or LU back-substitution)
+  // Work of the solve (work.h): assembly, setup and iterations (or the LU factorization),
+  // counted from sizes and iteration counts, so the same on every run.
+  double work = 0;
 };
 
 class InteriorSolver {

@@ -14,6 +14,7 @@
 #include "geometry.h"
 #include "laplacian_multigrid.h"
 #include "parallel.h"
+#include "work.h"
 
 namespace sdp {
 namespace {
@@ -189,6 +190,7 @@ class MatrixFreeNewtonSystem {
         for (int b = 0; b < 3; ++b) pattern.emplace_back(patch.face[f][a], patch.face[f][b], 0.0);
     proxy_.resize(n, n);
     proxy_.setFromTriplets(pattern.begin(), pattern.end());
+    spent_work_ += 9.0 * patch.real_face_count * 10 * WorkCosts::kNonzero;  // triplets, sorted
     std::vector<Eigen::Triplet<double>>().swap(pattern);
     proxy_.makeCompressed();
     // Where each face's 3 x 3 block lands among the proxy's values, found once.
@@ -245,7 +247,13 @@ class MatrixFreeNewtonSystem {
       }
       if (diagonal) *diagonal += moved + shift_;
     }
-    return preconditioner_.update(proxy_);
+    spent_work_ +=
+        patch_.real_face_count * (WorkCosts::kNewtonHessianFace + 9 * WorkCosts::kNonzero) +
+        2.0 * proxy_.nonZeros() * WorkCosts::kNonzero;
+    const double before = preconditioner_.spentWork();
+    const bool usable = preconditioner_.update(proxy_);
+    spent_work_ += preconditioner_.spentWork() - before;
+    return usable;
   }
 
   // y = H x (H as assembleNewtonSystem would assemble it).
@@ -292,8 +300,15 @@ class MatrixFreeNewtonSystem {
       rz = rz_new;
       p = z + beta * p;
     }
+    // Per iteration one product H p (face by face), one cycle (counted by the
+    // preconditioner) and about eight vector passes.
+    spent_work_ += it * (patch_.real_face_count * WorkCosts::kHessianVectorFace +
+                         8.0 * size * WorkCosts::kVectorEntry);
     return it;
   }
+
+  // Work (work.h) of the set-up, updates and solves so far.
+  double spentWork() const { return spent_work_ + preconditioner_.spentWork(); }
 
  private:
   // out += D^T y for one face (y in J's coordinates: u's gradient, then v's).
@@ -306,19 +321,24 @@ class MatrixFreeNewtonSystem {
   }
 
   // total = the sum over the faces with area of face(f, out), each face adding into `out`;
-  // the faces are split between the cores, each core adding into a vector of its own.
+  // the faces are split into kFaceSumSlots fixed ranges (the cores share them out), each adding
+  // into a vector of its own, and the vectors are summed in slot order: the same bits whatever
+  // the number of cores.
   template <class Face>
   void sumOverFaces(Eigen::VectorXd& total, Face&& face) const {
     const int size = 2 * patch_.real_vertex_count;
-    partial_.resize(parallelWorkers());
+    const int slots = std::clamp(patch_.real_face_count / 4096, 1, kFaceSumSlots);
+    partial_.resize(slots);
     for (Eigen::VectorXd& p : partial_) p.setZero(size);
-    parallelFor(patch_.real_face_count, 4096, [&](int begin, int end, int worker) {
+    parallelForSlots(patch_.real_face_count, slots, [&](int begin, int end, int slot) {
       for (int f = begin; f < end; ++f)
-        if (frames_[f].area != 0) face(f, partial_[worker]);
+        if (frames_[f].area != 0) face(f, partial_[slot]);
     });
     total = partial_[0];
     for (size_t w = 1; w < partial_.size(); ++w) total += partial_[w];
   }
+  // Four vectors of 2 x vertices doubles: all of a 4-core machine, at 106 MB for 1.65M vertices.
+  static constexpr int kFaceSumSlots = 4;
 
   const Patch& patch_;
   const std::vector<FaceFrame>& frames_;
@@ -328,6 +348,7 @@ class MatrixFreeNewtonSystem {
   LaplacianMultigrid preconditioner_;
   double shift_ = 0;
   mutable std::vector<Eigen::VectorXd> partial_;
+  mutable double spent_work_ = 0;
 };
 
 }  // namespace
@@ -367,6 +388,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     descent.emplace(patch, uv, metrics, budget, progress, Stage::Newton);
     LocalUVs& current = descent->current();  // the best map stays `uv` until a step beats it
     Energy energy = energyOf(patch, frames, current);
+    budget.charge(2.0 * faces * WorkCosts::kEnergyFace);  // the frames and the first energy
     if (!rescale(current, energy)) return uv;
 
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor;
@@ -374,23 +396,30 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     std::vector<Eigen::Triplet<double>> entries;
     Eigen::SparseMatrix<double> H;
     std::optional<MatrixFreeNewtonSystem> matrix_free;
-    if (direct)
+    if (direct) {
       H.resize(2 * n, 2 * n);
-    else
+    } else {
       matrix_free.emplace(patch, frames);
+      budget.charge(matrix_free->spentWork());
+    }
     Eigen::VectorXd gradient(2 * n), direction(2 * n);
     LocalUVs step(current.size(), Eigen::Vector2d::Zero());
 
     // The direction: the Newton step, by the sparse factor or by conjugate gradients.
     auto newtonDirection = [&]() {
       if (!direct) {
-        if (!matrix_free->update(current, energy, gradient)) return false;
-        counts.cg_iterations += matrix_free->solve(gradient, direction, settings.cg_tolerance,
-                                                   settings.cg_max_iterations);
-        return direction.allFinite();
+        const double before = matrix_free->spentWork();
+        const bool usable = matrix_free->update(current, energy, gradient);
+        if (usable)
+          counts.cg_iterations += matrix_free->solve(gradient, direction, settings.cg_tolerance,
+                                                     settings.cg_max_iterations);
+        descent->addWork(matrix_free->spentWork() - before);
+        return usable && direction.allFinite();
       }
       assembleNewtonSystem(patch, frames, current, energy, gradient, entries);
       H.setFromTriplets(entries.begin(), entries.end());
+      // The per-face terms, then 36 entries per face summed into the matrix.
+      descent->addWork(faces * (WorkCosts::kNewtonHessianFace + 72 * WorkCosts::kNonzero));
       if (!analyzed) {
         factor.analyzePattern(H);
         analyzed = true;
@@ -398,6 +427,8 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
       factor.factorize(H);
       if (factor.info() != Eigen::Success) return false;
       direction = factor.solve(-gradient);
+      descent->addWork(factorizationWork(factor.matrixL().nestedExpression()) +
+                       substitutionWork(factor.matrixL().nestedExpression()));
       return factor.info() == Eigen::Success && direction.allFinite();
     };
 
@@ -417,17 +448,18 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         }
       }
       for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
-      descent->recordStepTime();  // the linear solve is most of a step's time
 
       // Capped short of the first collapse, then halved until the energy drops enough; the
       // map is checked at the scale it is returned at.
       Energy trial;
       const auto sufficientDecrease = [&](LocalUVs& candidate, double length) {
         trial = energyOf(patch, frames, candidate);
+        descent->addWork(faces * WorkCosts::kEnergyFace);
         if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) return false;
         return rescale(candidate, trial);
       };
       const double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
+      descent->addWork(faces * WorkCosts::kFlipCheckFace);
       const CheckedDescent::Outcome outcome =
           descent->tryStep(step, length, 30, sufficientDecrease);
       if (!outcome.taken) {

@@ -125,12 +125,18 @@ const std::vector<ParameterDescription>& parameters() {
              "boundary) lets the outline move in checked steps and takes Newton steps on the "
              "stretch itself; the map never folds. A stage stops early once "
              "a step gains under 0.1% of L2 stretch, and refinement stops after twice the "
-             "linear map's time (at least 1.5 s). Circle and Square boundaries stay as they are.",
+             "linear map's work (counted, not timed, so the same map on every run). Circle and "
+             "Square boundaries stay as they are.",
              sdp::kDefaultStretchIterations, 0, 100, &FilterValues::stretch_iterations),
-      intRow("", "--time-budget", "F", "Refinement time budget",
-             "Refinement may take F times the linear map's time, at least 1.5 s; 0: no time "
-             "limit, the same map on every machine.",
-             static_cast<int>(sdp::kDefaultRefineTimeFactor), 0, 1000, &FilterValues::time_budget),
+      intRow("", "--time-budget", "F", "Refinement work budget",
+             "Refinement may do F times the linear map's work (at least what small patches need "
+             "to converge); 0: no limit. Work is counted from sizes and iterations, not timed: "
+             "the same map on every run, machine and load.",
+             static_cast<int>(sdp::kDefaultRefineWorkFactor), 0, 1000, &FilterValues::time_budget),
+      intRow("", "--time-limit", "S", "Refinement time limit",
+             "Also stop refining after S seconds of wall-clock time; 0: none. The map then "
+             "depends on the machine's speed and load.",
+             0, 0, 86400, &FilterValues::time_limit),
       boolRow("", "--fixed-boundary", "Fixed boundary",
               "Refinement keeps the measured boundary where it is (circle and square always "
               "stay).",
@@ -191,7 +197,8 @@ sdp::Options toOptions(const FilterValues& values) {
   options.boundary = static_cast<BoundaryShape>(values.boundary);
   options.source_rule = static_cast<SourceRule>(values.source_rule);
   options.stretch_iterations = values.stretch_iterations;
-  options.refine_time_factor = values.time_budget;
+  options.refine_work_factor = values.time_budget;
+  options.time_limit_seconds = values.time_limit;
   options.free_boundary = !values.fixed_boundary;
   options.outer_boundary_vertex = values.outer_vertex;
   return options;

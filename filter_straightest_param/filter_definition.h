@@ -25,7 +25,8 @@ struct FilterValues {
   int source_vertex;       // -1: automatic; else a vertex index in the front end's numbering
   int source_rule;         // index into the `--source-rule` choices
   int stretch_iterations;  // 0: the paper's linear map
-  int time_budget;         // refinement time as a multiple of the linear map's; 0: no limit
+  int time_budget;         // refinement work as a multiple of the linear map's; 0: no limit
+  int time_limit;          // CLI: wall-clock seconds for the refinement; 0: none
   bool fixed_boundary;     // refinement keeps the measured boundary in place
   int outer_vertex;        // patches with holes: a vertex of the outer loop; -1: the longest
   bool selected_only;      // MeshLab: only the selected faces

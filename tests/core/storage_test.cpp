@@ -108,21 +108,38 @@ TEST(Storage, UnitSquareFitSpansZeroToOne) {
   EXPECT_EQ(r.report.storage_degenerate_faces, 0);
 }
 
-// docs/method.md §4: the product default refines and stops on measured progress; without a time
-// budget the result is the same on every machine.
+// docs/method.md §4: the product default refines and stops on measured progress or on its work
+// budget, which is counted, not timed: the same result on every run.
 TEST(Refinement, DefaultsRefineAndStopOnProgress) {
   const test::Mesh m = test::grid(12, 1, 1, [](double x, double y) { return 0.6 * x * x * y; });
-  Options o = productDefaults();
+  const Options o = productDefaults();
   EXPECT_EQ(o.stretch_iterations, kDefaultStretchIterations);
-  EXPECT_GT(o.refine_time_factor, 0);
-  o.refine_time_factor = 0;
+  EXPECT_GT(o.refine_work_factor, 0);
+  EXPECT_EQ(o.time_limit_seconds, 0) << "no wall-clock limit by default";
   const Result a = parameterize(m.V, m.F, o), b = parameterize(m.V, m.F, o);
   EXPECT_LT(a.report.l2_stretch, a.report.l2_stretch_linear);
   EXPECT_TRUE(a.report.refinement_stop == "converged" || a.report.refinement_stop == "iterations")
       << a.report.refinement_stop;
-  EXPECT_TRUE(a.uv.isApprox(b.uv, 0)) << "not deterministic without a time budget";
+  EXPECT_TRUE(a.uv.isApprox(b.uv, 0)) << "the default is not deterministic";
+  EXPECT_GT(a.report.refinement_work, 0);
+  EXPECT_EQ(a.report.refinement_work, b.report.refinement_work);
   Options linear;
   EXPECT_EQ(parameterize(m.V, m.F, linear).report.refinement_stop, "not run");
+}
+
+// A small work budget stops the refinement at a step that depends on counted work alone.
+TEST(Refinement, WorkBudgetStopsAtTheSameStepEveryRun) {
+  const test::Mesh m = test::grid(40, 1, 1, [](double x, double y) { return 0.6 * x * x * y; });
+  Options o = productDefaults();
+  o.refine_min_gain = 0;
+  o.refine_min_work = 0;
+  o.refine_work_factor = 1;  // about one reweighting step
+  const Result a = parameterize(m.V, m.F, o), b = parameterize(m.V, m.F, o);
+  EXPECT_EQ(a.report.refinement_stop, "work budget");
+  EXPECT_LT(a.report.stretch_iterations_run, o.stretch_iterations);
+  EXPECT_LT(a.report.refinement_work, 2 * o.refine_work_factor) << "overran by more than a step";
+  EXPECT_EQ(a.report.stretch_iterations_run, b.report.stretch_iterations_run);
+  EXPECT_TRUE(a.uv.isApprox(b.uv, 0));
 }
 
 TEST(Refinement, ZeroMinGainRunsEveryIteration) {

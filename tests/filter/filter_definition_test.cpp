@@ -72,8 +72,9 @@ TEST(FilterDefinition, DefaultsAreTheProductsDefaults) {
   EXPECT_EQ(options.weights, product.weights);
   EXPECT_EQ(options.boundary, product.boundary);
   EXPECT_EQ(options.stretch_iterations, product.stretch_iterations);
-  EXPECT_EQ(options.refine_time_factor, product.refine_time_factor);
-  EXPECT_EQ(options.refine_min_seconds, product.refine_min_seconds);
+  EXPECT_EQ(options.refine_work_factor, product.refine_work_factor);
+  EXPECT_EQ(options.refine_min_work, product.refine_min_work);
+  EXPECT_EQ(options.time_limit_seconds, 0);
   EXPECT_EQ(options.free_boundary, product.free_boundary);
   EXPECT_EQ(options.source_vertex, -1) << "the front end maps its own numbering";
 }

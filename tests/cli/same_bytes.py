@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""The default map is the same bytes on every run: straightest_param with its defaults on MESH,
+once on a quiet machine, once beside a CPU hog (a busy process per core) and once on one core
+(`taskset -c 0`), each writing OBJ (double, with its .mtl and checkerboard) and PLY (float); the
+files of the three runs must be identical byte for byte, and so must the reports' refinement
+fields.
+
+usage: same_bytes.py --exe STRAIGHTEST_PARAM --workdir DIR [--mesh MESH [--any-stop]]
+
+Without --mesh it runs on a generated bumpy height field of 58k vertices (past the size where
+the Newton steps go matrix-free, with enough faces that the face loops run in several slots), on
+which the work budget, not convergence, ends the refinement: asserted unless --any-stop, so that
+the budget's determinism is what is tested. bench/determinism.py runs it on the shared meshes.
+"""
+import argparse
+import json
+import math
+import multiprocessing
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "robustness"))
+import meshgen  # noqa: E402
+
+# Report fields that must agree (seconds and stage_seconds may not).
+SAME_FIELDS = ["l2_stretch", "linf_stretch", "stretch_iterations", "best_iteration",
+               "free_boundary_steps", "refinement_stop", "refinement_work", "stage_work"]
+
+
+def busy():
+    while True:
+        pass
+
+
+def run(exe, mesh, folder, prefix=()):
+    folder.mkdir(parents=True)
+    reports = []
+    for name in ("map.obj", "map.ply"):
+        report = folder / (name + ".json")
+        done = subprocess.run([*prefix, exe, mesh, folder / name, "--report", report],
+                              capture_output=True, text=True)
+        if done.returncode != 0:
+            sys.exit(f"{folder.name}: straightest_param failed: {done.stderr.strip()}")
+        reports.append(json.loads(report.read_text()))
+    files = {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.suffix != ".json"}
+    return files, reports
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--exe", required=True)
+    parser.add_argument("--mesh")
+    parser.add_argument("--workdir", required=True, type=pathlib.Path)
+    parser.add_argument("--any-stop", action="store_true")
+    args = parser.parse_args()
+    shutil.rmtree(args.workdir, ignore_errors=True)
+    if not args.mesh:
+        args.workdir.mkdir(parents=True)
+        args.mesh = meshgen.write_off(args.workdir / "bumps.off", meshgen.grid(
+            240, height=lambda x, y: 0.15 * math.sin(9 * x) * math.sin(7 * y) + 0.3 * x * x))
+
+    results = {"quiet": run(args.exe, args.mesh, args.workdir / "quiet")}
+    hogs = [multiprocessing.Process(target=busy, daemon=True) for _ in range(os.cpu_count() or 2)]
+    for h in hogs:
+        h.start()
+    try:
+        results["beside a CPU hog"] = run(args.exe, args.mesh, args.workdir / "hog")
+    finally:
+        for h in hogs:
+            h.terminate()
+    results["one core"] = run(args.exe, args.mesh, args.workdir / "one_core",
+                              prefix=["taskset", "-c", "0"])
+
+    quiet_files, quiet_reports = results["quiet"]
+    for report in quiet_reports:
+        if not args.any_stop and report["refinement_stop"] != "work budget":
+            sys.exit(f"the refinement ended by '{report['refinement_stop']}', not the work "
+                     "budget: take a larger mesh")
+    failures = []
+    for name, (files, reports) in results.items():
+        if files.keys() != quiet_files.keys():
+            failures.append(f"{name}: files {sorted(files)} against {sorted(quiet_files)}")
+        for file in quiet_files.keys() & files.keys():
+            if files[file] != quiet_files[file]:
+                failures.append(f"{name}: {file} differs from the quiet run's")
+        for report, quiet in zip(reports, quiet_reports):
+            for field in SAME_FIELDS:
+                if report[field] != quiet[field]:
+                    failures.append(f"{name}: {field} {report[field]} against {quiet[field]}")
+    for name, (_, reports) in results.items():
+        r = reports[0]
+        print(f"{name}: {r['seconds']:.2f} s, L2 {r['l2_stretch']}, {r['stretch_iterations']} "
+              f"reweighting + {r['free_boundary_steps']} free-boundary steps, refinement work "
+              f"{r['refinement_work']:.3f} x the linear map's")
+    if failures:
+        sys.exit("not the same bytes:\n  " + "\n  ".join(failures))
+    print(f"same bytes in all {len(results)} runs: {', '.join(sorted(quiet_files))}")
+
+
+if __name__ == "__main__":
+    main()
