@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # One command for every benchmark table and plot in the README:
 #   bash bench/run.sh            quality tables, paper Table 1, scaling (CGAL up to 1.65M vertices),
-#                                the defaults against the linear map and SLIM, the mesh readers
-#                                against vcglib's (~20 min)
+#                                the defaults against the linear map and SLIM, the same bytes on
+#                                every run, the mesh readers against vcglib's (~25 min)
 #   bash bench/run.sh --quick    small meshes only (a smoke run, a few minutes)
 # Results go to bench/results/ (Markdown, CSV, PNG) and into the README between bench markers.
 set -euo pipefail
@@ -19,6 +19,8 @@ if [[ "${1:-}" == "--quick" ]]; then
   .venv/bin/python bench/defaults.py --build "$build_dir"
 else
   .venv/bin/python bench/defaults.py --build "$build_dir" --scaling --readme README.md
+  # The same bytes quiet, loaded and on one core; the work model against the clock.
+  .venv/bin/python bench/determinism.py --build "$build_dir" --readme README.md
   # Our mesh readers against vcglib's importers (README *Reading mesh files*).
   .venv/bin/python bench/readers.py --build "$build_dir" --readme README.md
 fi

@@ -263,11 +263,11 @@ int run(const Arguments& args) {
     const int size = args.values.texture_size;
     sdp::io::writePng(png_path, size, size, sdp::checkerboardRGB(size, args.values.checkers));
     written.add(png_path);
-    sdp::io::writeObjWithTexture(args.output, mesh.V, mesh.F, result.uv, png_name);
+    sdp::io::writeObjWithTexture(args.output, mesh.V, mesh.F, result.layout, png_name);
     written.add(args.output);
     written.add(fs::path(out).replace_extension(".mtl").string());
   } else {
-    sdp::io::writePly(args.output, mesh.V, mesh.F, result.uv);
+    sdp::io::writePly(args.output, mesh.V, mesh.F, result.layout);
     written.add(args.output);
   }
   if (!args.report_path.empty()) {

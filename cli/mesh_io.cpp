@@ -906,17 +906,21 @@ class ChunkedWriter {
 };
 
 void checkMeshForWriting(const std::string& path, const Positions& V, const Triangles& F,
-                         const UVs& uv) {
-  if (uv.rows() != V.rows()) {
-    throw ParameterizationError("cannot write " + path + ": " + std::to_string(uv.rows()) +
-                                " texture coordinates for " + std::to_string(V.rows()) +
-                                " vertices");
+                         const Layout& layout) {
+  if (layout.face_uv.rows() != F.rows()) {
+    throw ParameterizationError("cannot write " + path + ": texture corners for " +
+                                std::to_string(layout.face_uv.rows()) + " faces, the mesh has " +
+                                std::to_string(F.rows()));
   }
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int c = 0; c < 3; ++c) {
       if (F(f, c) < 0 || F(f, c) >= V.rows()) {
         throw ParameterizationError("cannot write " + path + ": face " + std::to_string(f) +
                                     " refers to a missing vertex");
+      }
+      if (layout.face_uv(f, c) < 0 || layout.face_uv(f, c) >= layout.uv.rows()) {
+        throw ParameterizationError("cannot write " + path + ": face " + std::to_string(f) +
+                                    " refers to a missing texture coordinate");
       }
     }
   }
@@ -1001,8 +1005,9 @@ MeshData readMeshFromMemory(const std::string& bytes, const std::string& format)
 }
 
 void writeObjWithTexture(const std::string& path, const Positions& V, const Triangles& F,
-                         const UVs& uv, const std::string& texture_png_filename) {
-  checkMeshForWriting(path, V, F, uv);
+                         const Layout& layout, const std::string& texture_png_filename) {
+  checkMeshForWriting(path, V, F, layout);
+  const UVs& uv = layout.uv;
   const fs::path obj_path(path);
   const fs::path mtl_path = fs::path(obj_path).replace_extension(".mtl");
   const std::string mtl_name = mtl_path.filename().string();
@@ -1042,12 +1047,11 @@ void writeObjWithTexture(const std::string& path, const Positions& V, const Tria
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     text += 'f';
     for (int c = 0; c < 3; ++c) {
-      // Vertex i carries texture coordinate i, so each corner is "i/i" (1-based).
-      const long long index = static_cast<long long>(F(f, c)) + 1;
+      // Each corner is "v/vt" (1-based): its vertex and its row of the layout.
       text += ' ';
-      appendNumber(text, index);
+      appendNumber(text, static_cast<long long>(F(f, c)) + 1);
       text += '/';
-      appendNumber(text, index);
+      appendNumber(text, static_cast<long long>(layout.face_uv(f, c)) + 1);
     }
     text += '\n';
     out.maybeFlush();
@@ -1064,8 +1068,9 @@ void writeObjWithTexture(const std::string& path, const Positions& V, const Tria
   }
 }
 
-void writePly(const std::string& path, const Positions& V, const Triangles& F, const UVs& uv) {
-  checkMeshForWriting(path, V, F, uv);
+void writePly(const std::string& path, const Positions& V, const Triangles& F,
+              const Layout& layout) {
+  checkMeshForWriting(path, V, F, layout);
   AtomicFile ply(path);
   ChunkedWriter out(ply.stream());
   std::string& data = out.buffer();
@@ -1086,8 +1091,8 @@ void writePly(const std::string& path, const Positions& V, const Triangles& F, c
     for (int c = 0; c < 3; ++c) putLittleEndian32(data, static_cast<uint32_t>(F(f, c)));
     data.push_back(6);
     for (int c = 0; c < 3; ++c) {
-      putFloat(data, uv(F(f, c), 0));
-      putFloat(data, uv(F(f, c), 1));
+      putFloat(data, layout.uv(layout.face_uv(f, c), 0));
+      putFloat(data, layout.uv(layout.face_uv(f, c), 1));
     }
     out.maybeFlush();
   }

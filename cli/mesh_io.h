@@ -27,16 +27,17 @@ MeshData readMeshFromMemory(const std::string& bytes, const std::string& format)
 // True when readMesh knows the extension of `path`.
 bool isReadableMeshPath(const std::string& path);
 
-// OBJ with one `vt` per vertex and `f v/vt` corners (per-wedge texture coordinates as MeshLab
-// reads them), plus `<stem>.mtl` next to it whose material maps `texture_png_filename`
-// (a file name relative to the OBJ's folder).
+// OBJ with one `vt` per row of layout.uv and `f v/vt` corners (face_uv: per-wedge texture
+// coordinates as MeshLab reads them, seams included), plus `<stem>.mtl` next to it whose
+// material maps `texture_png_filename` (a file name relative to the OBJ's folder).
 void writeObjWithTexture(const std::string& path, const sdp::Positions& V, const sdp::Triangles& F,
-                         const sdp::UVs& uv, const std::string& texture_png_filename);
+                         const sdp::Layout& layout, const std::string& texture_png_filename);
 
 // Binary little-endian PLY: vertex double x y z; face `list uchar int vertex_indices` and
-// `list uchar float texcoord` (u0 v0 u1 v1 u2 v2), MeshLab's per-wedge texture coordinates.
+// `list uchar float texcoord` (u0 v0 u1 v1 u2 v2 from the layout's corners), MeshLab's
+// per-wedge texture coordinates.
 void writePly(const std::string& path, const sdp::Positions& V, const sdp::Triangles& F,
-              const sdp::UVs& uv);
+              const sdp::Layout& layout);
 
 // 8-bit RGB PNG; `rgb` holds width * height * 3 bytes, top row first.
 void writePng(const std::string& path, int width, int height,

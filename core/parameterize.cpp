@@ -315,10 +315,11 @@ class Pipeline {
     r.flipped_faces = metrics_.flipped_faces;
   }
 
-  Result finish() {
-    result_.uv = UVs::Zero(V_.rows(), 2);
+  Result finish(const Triangles& F) {
+    UVs uv = UVs::Zero(V_.rows(), 2);
     for (int v = 0; v < patch_.real_vertex_count; ++v)
-      result_.uv.row(patch_.input_vertex[v]) = uv_[v].transpose();
+      uv.row(patch_.input_vertex[v]) = uv_[v].transpose();
+    result_.layout = Layout::perVertex(std::move(uv), F);
     result_.face_stretch = std::move(metrics_.face_l2);
     report().seconds = std::chrono::duration<double>(Clock::now() - run_start_).count();
     progress_.done();
@@ -533,7 +534,7 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
   run.refine();
   run.countFallbacks();
   run.store();
-  return run.finish();
+  return run.finish(F);
 }
 
 }  // namespace

@@ -5,17 +5,16 @@
 #include <vector>
 
 #include "error.h"
+#include "layout.h"
 #include "options.h"
 #include "report.h"
 
 namespace sdp {
 
-using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using Triangles = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using UVs = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
-
 struct Result {
-  UVs uv;                            // one row per input vertex (unreferenced vertices: 0, 0)
+  // Per face corner (layout.h). A disk patch has no seam: layout.uv has one row per input vertex
+  // (unreferenced vertices: 0, 0) and layout.face_uv is F.
+  Layout layout;
   std::vector<double> face_stretch;  // per input face: normalized L2 stretch (1 = isometric)
   Report report;
 };

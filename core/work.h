@@ -5,8 +5,8 @@
 // load, with any number of threads.
 //
 // One unit is about one nanosecond of one core of the 2-core machine the constants were fitted
-// on (bench/work_model.py; its results, unit against measured seconds per stage, in
-// bench/results/work_model.md). Only ratios matter for the default budget (a multiple of the
+// on (bench/determinism.py sets each stage's units against its measured seconds, in
+// bench/results/determinism.md). Only ratios matter for the default budget (a multiple of the
 // linear map's work); the absolute size matters only for kMinRefineWork.
 #pragma once
 

@@ -160,7 +160,8 @@ inline void setMeshLabStorage(sdp::Options& options) {
 // stored, see setMeshLabStorage).
 template <class TexScalar>
 struct StoredResult {
-  std::vector<TexScalar> u, v;  // per core vertex
+  std::vector<TexScalar> u, v;  // per row of the layout's uv
+  sdp::Triangles face_uv;       // per patch face and corner: its row (the layout's face_uv)
   sdp::UVMeasures metrics;      // of the stored UVs (flips, L2, L-infinity, per-face L2)
 };
 
@@ -169,19 +170,23 @@ struct StoredResult {
 template <class MeshType>
 StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result) {
   using TexScalar = TexScalarOf<MeshType>;
-  if (result.uv.rows() != static_cast<Eigen::Index>(in.mesh_vertex.size()) ||
-      result.face_stretch.size() != in.mesh_face.size()) {
+  const sdp::Layout& layout = result.layout;
+  if (layout.face_uv.rows() != static_cast<Eigen::Index>(in.mesh_face.size()) ||
+      result.face_stretch.size() != in.mesh_face.size() ||
+      (layout.face_uv.size() > 0 &&
+       (layout.face_uv.minCoeff() < 0 || layout.face_uv.maxCoeff() >= layout.uv.rows()))) {
     throw sdp::ParameterizationError("internal error: the result does not match the patch");
   }
   StoredResult<TexScalar> stored;
-  const size_t n = in.mesh_vertex.size();
+  const Eigen::Index n = layout.uv.rows();
   stored.u.resize(n);
   stored.v.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    stored.u[i] = static_cast<TexScalar>(result.uv(i, 0));
-    stored.v[i] = static_cast<TexScalar>(result.uv(i, 1));
-    if (static_cast<double>(stored.u[i]) != result.uv(i, 0) ||
-        static_cast<double>(stored.v[i]) != result.uv(i, 1)) {
+  stored.face_uv = layout.face_uv;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    stored.u[i] = static_cast<TexScalar>(layout.uv(i, 0));
+    stored.v[i] = static_cast<TexScalar>(layout.uv(i, 1));
+    if (static_cast<double>(stored.u[i]) != layout.uv(i, 0) ||
+        static_cast<double>(stored.v[i]) != layout.uv(i, 1)) {
       throw sdp::ParameterizationError(
           "internal error: the texture coordinates were not rounded for MeshLab's storage");
     }
@@ -209,9 +214,9 @@ void applyResult(MeshType& mesh, const PatchInput& in,
     auto& f = mesh.face[in.mesh_face[i]];
     if (options.wedge_texcoords) {
       for (int k = 0; k < 3; ++k) {
-        const int v = in.triangles(i, k);
-        f.WT(k).U() = stored.u[v];
-        f.WT(k).V() = stored.v[v];
+        const int row = stored.face_uv(i, k);
+        f.WT(k).U() = stored.u[row];
+        f.WT(k).V() = stored.v[row];
         f.WT(k).N() = options.texture_index;
       }
     }
@@ -220,10 +225,15 @@ void applyResult(MeshType& mesh, const PatchInput& in,
     }
   }
   if (options.vertex_texcoords) {
+    // A vertex holds one coordinate: on a seam, the one its first corner carries.
+    std::vector<int> row_of_vertex(in.mesh_vertex.size(), -1);
+    for (Eigen::Index f = stored.face_uv.rows() - 1; f >= 0; --f)
+      for (int k = 2; k >= 0; --k) row_of_vertex[in.triangles(f, k)] = stored.face_uv(f, k);
     for (size_t i = 0; i < in.mesh_vertex.size(); ++i) {
+      if (row_of_vertex[i] < 0) continue;
       auto& t = mesh.vert[in.mesh_vertex[i]].T();
-      t.U() = stored.u[i];
-      t.V() = stored.v[i];
+      t.U() = stored.u[row_of_vertex[i]];
+      t.V() = stored.v[row_of_vertex[i]];
       t.N() = options.texture_index;
     }
   }

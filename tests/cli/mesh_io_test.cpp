@@ -104,6 +104,7 @@ struct TexturedMesh {
   sdp::Positions V;
   sdp::Triangles F;
   sdp::UVs uv;
+  sdp::Layout layout() const { return sdp::Layout::perVertex(uv, F); }
 };
 
 TexturedMesh makeTexturedMesh() {
@@ -556,7 +557,7 @@ TEST_F(TempDirTest, ReadMeshDispatchesOnTheExtensionInAnyCase) {
 TEST_F(TempDirTest, ObjRoundTripKeepsPositionsFacesAndTextureCoordinates) {
   const TexturedMesh m = makeTexturedMesh();
   const fs::path obj = dir_ / "patch.obj";
-  sdp::io::writeObjWithTexture(obj.string(), m.V, m.F, m.uv, "patch_checker.png");
+  sdp::io::writeObjWithTexture(obj.string(), m.V, m.F, m.layout(), "patch_checker.png");
   EXPECT_EQ(filesInDir(), (std::vector<std::string>{"patch.mtl", "patch.obj"}));
 
   const MeshData back = sdp::io::readMesh(obj.string());
@@ -606,10 +607,43 @@ TEST_F(TempDirTest, ObjRoundTripKeepsPositionsFacesAndTextureCoordinates) {
   EXPECT_NE(mtl.find("map_Kd patch_checker.png\n"), std::string::npos);
 }
 
+// A seam: vertex 4 (the centre) carries another coordinate in face 3 than in the others; the OBJ
+// writes one vt per layout row and `f v/vt` with the row, the PLY each corner's own value.
+TEST_F(TempDirTest, WritersKeepASeamPerCorner) {
+  const TexturedMesh m = makeTexturedMesh();
+  sdp::Layout layout = m.layout();
+  layout.uv.conservativeResize(6, 2);
+  layout.uv.row(5) << 0.75, 0.25;
+  layout.face_uv(3, 2) = 5;
+  const fs::path obj = dir_ / "seam.obj", ply = dir_ / "seam.ply";
+  sdp::io::writeObjWithTexture(obj.string(), m.V, m.F, layout, "t.png");
+  sdp::io::writePly(ply.string(), m.V, m.F, layout);
+
+  std::ifstream in(obj);
+  std::string line, last_face;
+  int vt = 0, v = 0;
+  while (std::getline(in, line)) {
+    vt += line.rfind("vt ", 0) == 0;
+    v += line.rfind("v ", 0) == 0;
+    if (line.rfind("f ", 0) == 0) last_face = line;
+  }
+  EXPECT_EQ(v, 5);
+  EXPECT_EQ(vt, 6);
+  EXPECT_EQ(last_face, "f 4/4 1/1 5/6");
+
+  const std::string bytes = readFile(ply);
+  const size_t body = bytes.find("end_header\n") + 11 + 5 * 3 * 8;
+  // Face 3's record: count, 3 ints, count, 6 floats; its last corner's u at the end but one.
+  const size_t record = 1 + 12 + 1 + 24;
+  float u = 0;
+  std::memcpy(&u, bytes.data() + body + 3 * record + record - 8, 4);
+  EXPECT_EQ(u, 0.75f);
+}
+
 TEST_F(TempDirTest, PlyRoundTripKeepsMeshAndPerWedgeTexcoords) {
   const TexturedMesh m = makeTexturedMesh();
   const fs::path ply = dir_ / "patch.ply";
-  sdp::io::writePly(ply.string(), m.V, m.F, m.uv);
+  sdp::io::writePly(ply.string(), m.V, m.F, m.layout());
   EXPECT_EQ(filesInDir(), (std::vector<std::string>{"patch.ply"}));
 
   const MeshData back = sdp::io::readMesh(ply.string());
@@ -655,14 +689,16 @@ TEST_F(TempDirTest, PlyRoundTripKeepsMeshAndPerWedgeTexcoords) {
 TEST_F(TempDirTest, WritersReplaceExistingFilesAndLeaveNothingOnFailure) {
   const TexturedMesh m = makeTexturedMesh();
   std::ofstream(dir_ / "old.ply") << "old contents";
-  sdp::io::writePly((dir_ / "old.ply").string(), m.V, m.F, m.uv);
+  sdp::io::writePly((dir_ / "old.ply").string(), m.V, m.F, m.layout());
   EXPECT_EQ(sdp::io::readMesh((dir_ / "old.ply").string()).F.rows(), 4);
 
   const std::string missing = (dir_ / "no_such_folder" / "out.obj").string();
-  expectError([&] { sdp::io::writeObjWithTexture(missing, m.V, m.F, m.uv, "t.png"); },
+  expectError([&] { sdp::io::writeObjWithTexture(missing, m.V, m.F, m.layout(), "t.png"); },
               {"cannot write", "out"});
   expectError(
-      [&] { sdp::io::writePly((dir_ / "no_such_folder" / "o.ply").string(), m.V, m.F, m.uv); },
+      [&] {
+        sdp::io::writePly((dir_ / "no_such_folder" / "o.ply").string(), m.V, m.F, m.layout());
+      },
       {"cannot write", "o.ply"});
   expectError(
       [&] {
@@ -672,8 +708,12 @@ TEST_F(TempDirTest, WritersReplaceExistingFilesAndLeaveNothingOnFailure) {
   EXPECT_EQ(filesInDir(), (std::vector<std::string>{"old.ply"}));
 
   sdp::UVs short_uv = m.uv.topRows(2);
-  expectError([&] { sdp::io::writePly((dir_ / "bad.ply").string(), m.V, m.F, short_uv); },
-              {"texture coordinates"});
+  expectError(
+      [&] {
+        sdp::io::writePly((dir_ / "bad.ply").string(), m.V, m.F,
+                          sdp::Layout::perVertex(short_uv, m.F));
+      },
+      {"missing texture coordinate"});
   expectError(
       [&] {
         sdp::io::writePng((dir_ / "bad.png").string(), 2, 2, {0, 0, 0});
@@ -805,8 +845,8 @@ TEST(ReaderRobustness, MutatedFilesGiveAMeshOrAnError) {
       ("sdp_mesh_io_fuzz_" +
        std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
   fs::create_directories(dir);
-  sdp::io::writeObjWithTexture((dir / "m.obj").string(), m.V, m.F, m.uv, "t.png");
-  sdp::io::writePly((dir / "m.ply").string(), m.V, m.F, m.uv);
+  sdp::io::writeObjWithTexture((dir / "m.obj").string(), m.V, m.F, m.layout(), "t.png");
+  sdp::io::writePly((dir / "m.ply").string(), m.V, m.F, m.layout());
   const std::vector<std::pair<std::string, std::string>> seeds = {
       {"off", kSquareAndQuadOff},
       {"off", "COFF 3 1\n0 0 0 1 1 1\n1 0 0 1 1 1\n0 1 0 1 1 1\n3 0 1 2 1\n"},

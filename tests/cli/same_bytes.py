@@ -49,6 +49,38 @@ def run(exe, mesh, folder, prefix=()):
     return files, reports
 
 
+def three_runs(exe, mesh, workdir):
+    """{run name: (files, reports)} for the quiet, loaded and one-core runs."""
+    results = {"quiet": run(exe, mesh, workdir / "quiet")}
+    hogs = [multiprocessing.Process(target=busy, daemon=True) for _ in range(os.cpu_count() or 2)]
+    for h in hogs:
+        h.start()
+    try:
+        results["beside a CPU hog"] = run(exe, mesh, workdir / "hog")
+    finally:
+        for h in hogs:
+            h.terminate()
+    results["one core"] = run(exe, mesh, workdir / "one_core", prefix=["taskset", "-c", "0"])
+    return results
+
+
+def differences(results):
+    """What differs from the quiet run, one line each."""
+    quiet_files, quiet_reports = results["quiet"]
+    failures = []
+    for name, (files, reports) in results.items():
+        if files.keys() != quiet_files.keys():
+            failures.append(f"{name}: files {sorted(files)} against {sorted(quiet_files)}")
+        for file in quiet_files.keys() & files.keys():
+            if files[file] != quiet_files[file]:
+                failures.append(f"{name}: {file} differs from the quiet run's")
+        for report, quiet in zip(reports, quiet_reports):
+            for field in SAME_FIELDS:
+                if report[field] != quiet[field]:
+                    failures.append(f"{name}: {field} {report[field]} against {quiet[field]}")
+    return failures
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--exe", required=True)
@@ -62,34 +94,13 @@ def main():
         args.mesh = meshgen.write_off(args.workdir / "bumps.off", meshgen.grid(
             240, height=lambda x, y: 0.15 * math.sin(9 * x) * math.sin(7 * y) + 0.3 * x * x))
 
-    results = {"quiet": run(args.exe, args.mesh, args.workdir / "quiet")}
-    hogs = [multiprocessing.Process(target=busy, daemon=True) for _ in range(os.cpu_count() or 2)]
-    for h in hogs:
-        h.start()
-    try:
-        results["beside a CPU hog"] = run(args.exe, args.mesh, args.workdir / "hog")
-    finally:
-        for h in hogs:
-            h.terminate()
-    results["one core"] = run(args.exe, args.mesh, args.workdir / "one_core",
-                              prefix=["taskset", "-c", "0"])
-
+    results = three_runs(args.exe, args.mesh, args.workdir)
     quiet_files, quiet_reports = results["quiet"]
     for report in quiet_reports:
         if not args.any_stop and report["refinement_stop"] != "work budget":
             sys.exit(f"the refinement ended by '{report['refinement_stop']}', not the work "
                      "budget: take a larger mesh")
-    failures = []
-    for name, (files, reports) in results.items():
-        if files.keys() != quiet_files.keys():
-            failures.append(f"{name}: files {sorted(files)} against {sorted(quiet_files)}")
-        for file in quiet_files.keys() & files.keys():
-            if files[file] != quiet_files[file]:
-                failures.append(f"{name}: {file} differs from the quiet run's")
-        for report, quiet in zip(reports, quiet_reports):
-            for field in SAME_FIELDS:
-                if report[field] != quiet[field]:
-                    failures.append(f"{name}: {field} {report[field]} against {quiet[field]}")
+    failures = differences(results)
     for name, (_, reports) in results.items():
         r = reports[0]
         print(f"{name}: {r['seconds']:.2f} s, L2 {r['l2_stretch']}, {r['stretch_iterations']} "

@@ -70,7 +70,7 @@ Result refinedAndChecked(const std::string& mesh, int steps) {
   Result r = parameterize(m.V, m.F, o);
   EXPECT_EQ(r.report.flipped_faces, 0) << mesh;
   EXPECT_EQ(test::countNonPositiveFaces(r, m.F), 0) << mesh;
-  EXPECT_EQ(borderCrossings(r.uv, m.F), 0) << mesh;
+  EXPECT_EQ(borderCrossings(r.layout.uv, m.F), 0) << mesh;
   return r;
 }
 
@@ -173,7 +173,7 @@ TEST(StretchNewton, ConjugateGradientsMatchTheFactorOnCamelhead) {
   const Patch patch = buildPatch(m.V, m.F);
   LocalUVs uv(patch.vertexCount(), Eigen::Vector2d::Zero());
   for (int v = 0; v < patch.real_vertex_count; ++v)
-    uv[v] = start.uv.row(patch.input_vertex[v]).transpose();
+    uv[v] = start.layout.uv.row(patch.input_vertex[v]).transpose();
   const StretchMetrics begin = stretchMetrics(patch, uv);
   ASSERT_EQ(begin.flipped_faces, 0);
   double l2[2];

@@ -31,7 +31,7 @@ TEST(Parameterize, PlanarPatchWithMeasuredBoundaryIsIsometric) {
 TEST(Parameterize, ResultShapesAndReportKeys) {
   const test::Mesh m = test::grid(10, 1, 1, [](double x, double y) { return x * y; });
   const Result r = parameterize(m.V, m.F);
-  EXPECT_EQ(r.uv.rows(), m.V.rows());
+  EXPECT_EQ(r.layout.uv.rows(), m.V.rows());
   EXPECT_EQ(r.face_stretch.size(), static_cast<size_t>(m.F.rows()));
   EXPECT_EQ(r.report.vertices, m.V.rows());
   EXPECT_EQ(r.report.faces, m.F.rows());

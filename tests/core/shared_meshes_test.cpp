@@ -88,7 +88,7 @@ TEST(Holes, BeetleAndHalfTunnelGiveOneToOneMaps) {
       Options o;
       o.boundary = static_cast<BoundaryShape>(b);
       const Result r = parameterize(mesh.V, mesh.F, o);
-      EXPECT_EQ(r.uv.rows(), mesh.V.rows()) << name;
+      EXPECT_EQ(r.layout.uv.rows(), mesh.V.rows()) << name;
       EXPECT_EQ(r.face_stretch.size(), static_cast<size_t>(mesh.F.rows())) << name;
       EXPECT_EQ(r.report.flipped_faces, 0) << name;
       EXPECT_EQ(test::countNonPositiveFaces(r, mesh.F), 0) << name;

@@ -55,9 +55,10 @@ Result storedNeedleGrid(const test::Mesh& m, UVStorage storage) {
 TEST(Storage, NeedleFacesCollapseWhenRoundedNaively) {
   const test::Mesh m = needleGrid();
   const Result r = storedNeedleGrid(m, UVStorage::Double);
-  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, [](double x) { return x; }), 0);
-  EXPECT_GT(nonPositiveFaces(r.uv, m.F, asFloat), 0) << "the case no longer needs a repair";
-  EXPECT_GT(nonPositiveFaces(r.uv, m.F, asObjText), 0) << "the case no longer needs a repair";
+  EXPECT_EQ(nonPositiveFaces(r.layout.uv, m.F, [](double x) { return x; }), 0);
+  EXPECT_GT(nonPositiveFaces(r.layout.uv, m.F, asFloat), 0) << "the case no longer needs a repair";
+  EXPECT_GT(nonPositiveFaces(r.layout.uv, m.F, asObjText), 0)
+      << "the case no longer needs a repair";
   EXPECT_EQ(r.report.storage, "double");
   EXPECT_EQ(r.report.storage_degenerate_faces, 0);
 }
@@ -75,15 +76,16 @@ TEST(Storage, MeshLabStorageIsRepairedAndExact) {
       << r.report.notes[0];
   for (const std::string& w : r.report.warnings)
     EXPECT_EQ(w.find("collapse"), std::string::npos) << w;
-  for (Eigen::Index i = 0; i < r.uv.rows(); ++i)
+  for (Eigen::Index i = 0; i < r.layout.uv.rows(); ++i)
     for (int k = 0; k < 2; ++k) {
-      EXPECT_EQ(asFloat(r.uv(i, k)), r.uv(i, k)) << "not a float: vertex " << i;
-      EXPECT_NEAR(asObjText(r.uv(i, k)), r.uv(i, k), 3e-8) << "not 6 decimals: vertex " << i;
+      EXPECT_EQ(asFloat(r.layout.uv(i, k)), r.layout.uv(i, k)) << "not a float: vertex " << i;
+      EXPECT_NEAR(asObjText(r.layout.uv(i, k)), r.layout.uv(i, k), 3e-8)
+          << "not 6 decimals: vertex " << i;
     }
-  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, asFloat), 0);
-  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, asObjText), 0);
+  EXPECT_EQ(nonPositiveFaces(r.layout.uv, m.F, asFloat), 0);
+  EXPECT_EQ(nonPositiveFaces(r.layout.uv, m.F, asObjText), 0);
   // The report describes the stored map.
-  const UVMeasures stored = measureUVs(m.V, m.F, r.uv);
+  const UVMeasures stored = measureUVs(m.V, m.F, r.layout.uv);
   EXPECT_DOUBLE_EQ(stored.l2_stretch, r.report.l2_stretch);
   EXPECT_DOUBLE_EQ(stored.linf_stretch, r.report.linf_stretch);
 }
@@ -92,7 +94,7 @@ TEST(Storage, FloatStorageIsRepaired) {
   const test::Mesh m = needleGrid();
   const Result r = storedNeedleGrid(m, UVStorage::Float);
   EXPECT_EQ(r.report.storage_degenerate_faces, 2);
-  EXPECT_EQ(nonPositiveFaces(r.uv, m.F, asFloat), 0);
+  EXPECT_EQ(nonPositiveFaces(r.layout.uv, m.F, asFloat), 0);
 }
 
 TEST(Storage, UnitSquareFitSpansZeroToOne) {
@@ -101,8 +103,8 @@ TEST(Storage, UnitSquareFitSpansZeroToOne) {
   o.fit_unit_square = true;
   o.storage = UVStorage::FloatAndSixDecimals;
   const Result r = parameterize(m.V, m.F, o);
-  const double low = std::min(r.uv.col(0).minCoeff(), r.uv.col(1).minCoeff());
-  const double high = std::max(r.uv.col(0).maxCoeff(), r.uv.col(1).maxCoeff());
+  const double low = std::min(r.layout.uv.col(0).minCoeff(), r.layout.uv.col(1).minCoeff());
+  const double high = std::max(r.layout.uv.col(0).maxCoeff(), r.layout.uv.col(1).maxCoeff());
   EXPECT_NEAR(low, 0, 1e-6);
   EXPECT_NEAR(high, 1, 1e-6);
   EXPECT_EQ(r.report.storage_degenerate_faces, 0);
@@ -120,7 +122,7 @@ TEST(Refinement, DefaultsRefineAndStopOnProgress) {
   EXPECT_LT(a.report.l2_stretch, a.report.l2_stretch_linear);
   EXPECT_TRUE(a.report.refinement_stop == "converged" || a.report.refinement_stop == "iterations")
       << a.report.refinement_stop;
-  EXPECT_TRUE(a.uv.isApprox(b.uv, 0)) << "the default is not deterministic";
+  EXPECT_TRUE(a.layout.uv.isApprox(b.layout.uv, 0)) << "the default is not deterministic";
   EXPECT_GT(a.report.refinement_work, 0);
   EXPECT_EQ(a.report.refinement_work, b.report.refinement_work);
   Options linear;
@@ -139,7 +141,7 @@ TEST(Refinement, WorkBudgetStopsAtTheSameStepEveryRun) {
   EXPECT_LT(a.report.stretch_iterations_run, o.stretch_iterations);
   EXPECT_LT(a.report.refinement_work, 2 * o.refine_work_factor) << "overran by more than a step";
   EXPECT_EQ(a.report.stretch_iterations_run, b.report.stretch_iterations_run);
-  EXPECT_TRUE(a.uv.isApprox(b.uv, 0));
+  EXPECT_TRUE(a.layout.uv.isApprox(b.layout.uv, 0));
 }
 
 TEST(Refinement, ZeroMinGainRunsEveryIteration) {

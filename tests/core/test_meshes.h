@@ -60,7 +60,8 @@ inline Mesh planarGrid(int n) {
 
 // Signed area of face f in the returned UVs: positive = not flipped.
 inline double uvArea(const Result& r, const Triangles& F, int f) {
-  const auto a = r.uv.row(F(f, 0)), b = r.uv.row(F(f, 1)), c = r.uv.row(F(f, 2));
+  const auto a = r.layout.uv.row(F(f, 0)), b = r.layout.uv.row(F(f, 1)),
+             c = r.layout.uv.row(F(f, 2));
   return 0.5 * ((b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y()));
 }
 

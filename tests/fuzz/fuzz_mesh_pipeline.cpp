@@ -47,10 +47,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
     if (result.report.flipped_faces != 0) finding("returned a map reporting flipped faces");
-    if (result.uv.rows() != mesh.V.rows()) finding("uv rows differ from vertex count");
-    if (!result.uv.allFinite()) finding("non-finite texture coordinate");
+    if (result.layout.uv.rows() != mesh.V.rows()) finding("uv rows differ from vertex count");
+    if (!result.layout.uv.allFinite()) finding("non-finite texture coordinate");
     for (int f = 0; f < mesh.F.rows(); ++f)
-      if (!(uvArea(result.uv, mesh.F, f) > 0)) finding("returned a folded or degenerate face");
+      if (!(uvArea(result.layout.uv, mesh.F, f) > 0))
+        finding("returned a folded or degenerate face");
   } catch (const sdp::ParameterizationError& e) {
     const std::string reason = e.what();
     if (reason.empty() || reason.find('\n') != std::string::npos) finding("bad reason text");

@@ -292,7 +292,7 @@ TEST(CoreRobustness, DuplicateVerticesAlongACutGiveASlitThatOpensUp) {
     EXPECT_EQ(r.report.holes_filled, 0);
     for (int i = 1; i < row; ++i) {  // interior slit vertices: both sides apart
       const int a = gridIndex(n, i, row), c = copy_of[a];
-      EXPECT_GT((r.uv.row(a) - r.uv.row(c)).norm(), 1e-6) << "slit vertex " << a;
+      EXPECT_GT((r.layout.uv.row(a) - r.layout.uv.row(c)).norm(), 1e-6) << "slit vertex " << a;
     }
   }
 }
@@ -304,12 +304,12 @@ TEST(CoreRobustness, UnreferencedVerticesAreIgnoredEvenWhenNotFinite) {
       Eigen::RowVector3d(std::numeric_limits<double>::infinity(), 0, 0);
   const Result base = parameterize(m.V, m.F);
   const Result r = parameterize(V, m.F);
-  EXPECT_EQ(r.uv.rows(), V.rows());
+  EXPECT_EQ(r.layout.uv.rows(), V.rows());
   EXPECT_EQ(r.report.unreferenced_vertices, 3);
   EXPECT_EQ(r.report.vertices, m.V.rows());
   for (int v = static_cast<int>(m.V.rows()); v < V.rows(); ++v)
-    EXPECT_EQ(r.uv.row(v), Eigen::RowVector2d(0, 0));
-  EXPECT_LT((r.uv.topRows(m.V.rows()) - base.uv).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_EQ(r.layout.uv.row(v), Eigen::RowVector2d(0, 0));
+  EXPECT_LT((r.layout.uv.topRows(m.V.rows()) - base.layout.uv).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_EQ(countNonPositiveFaces(r, m.F), 0);
 }
 
@@ -409,7 +409,7 @@ TEST(CoreRobustness, GeometryWithoutAreaGivesAConnectivityMapAndSaysSo) {
   for (const Mesh* m : {&point, &line})
     for (BoundaryShape b : kAllBoundaries) {
       const Result r = parameterize(m->V, m->F, with(WeightScheme::Straightest, b));
-      EXPECT_TRUE(r.uv.allFinite());
+      EXPECT_TRUE(r.layout.uv.allFinite());
       EXPECT_EQ(countNonPositiveFaces(r, m->F), 0);
       EXPECT_GT(r.report.degenerate_rings, 0);
       EXPECT_FALSE(r.report.warnings.empty());
@@ -427,7 +427,7 @@ TEST(CoreRobustness, HolesForEveryWeightAndBoundary) {
     for (BoundaryShape b : kAllBoundaries) {
       const Result r = parameterize(two_holes.V, two_holes.F, with(w, b));
       EXPECT_EQ(r.report.holes_filled, 2);
-      EXPECT_EQ(r.uv.rows(), m.V.rows());
+      EXPECT_EQ(r.layout.uv.rows(), m.V.rows());
       EXPECT_EQ(r.face_stretch.size(), static_cast<size_t>(two_holes.F.rows()));
       EXPECT_EQ(countNonPositiveFaces(r, two_holes.F), 0)
           << weightSchemeName(w) << " " << boundaryShapeName(b);
@@ -464,7 +464,7 @@ TEST(CoreRobustness, NefertitiMapIsScaleAndTranslationInvariant) {
       EXPECT_EQ(r.report.boundary_used, base.report.boundary_used);
       EXPECT_NEAR(r.report.l2_stretch, base.report.l2_stretch, 1e-6 * base.report.l2_stretch);
       EXPECT_NEAR(r.report.linf_stretch, base.report.linf_stretch, 1e-5 * base.report.linf_stretch);
-      EXPECT_LT(similarityResidual(base.uv, r.uv), 1e-6);
+      EXPECT_LT(similarityResidual(base.layout.uv, r.layout.uv), 1e-6);
     }
   }
 }
@@ -481,7 +481,7 @@ TEST(CoreRobustness, ExtremeScalesGiveTheSameMap) {
     EXPECT_EQ(countNonPositiveFaces(r, m.F), 0);
     EXPECT_EQ(r.report.fallbacks, 0);
     EXPECT_NEAR(r.report.l2_stretch, base.report.l2_stretch, 1e-9);
-    EXPECT_LT(similarityResidual(base.uv, r.uv), 1e-6);
+    EXPECT_LT(similarityResidual(base.layout.uv, r.layout.uv), 1e-6);
   }
 }
 
@@ -605,12 +605,12 @@ TEST(CoreAllocationFailure, LargeAllocationsFailingGiveAMemoryReason) {
 TEST(CoreAllocationFailure, MeasureUVsFailsWithAParameterizationError) {
   const Mesh m = wavyGrid(10);
   const Result r = parameterize(m.V, m.F);
-  inject::armedRun(-1, kNoSize, [&] { measureUVs(m.V, m.F, r.uv); });
+  inject::armedRun(-1, kNoSize, [&] { measureUVs(m.V, m.F, r.layout.uv); });
   const long total = inject::seen.load();
   std::vector<std::string> problems;
   for (long k = 1; k <= total; ++k) {
     try {
-      inject::armedRun(k, kNoSize, [&] { measureUVs(m.V, m.F, r.uv); });
+      inject::armedRun(k, kNoSize, [&] { measureUVs(m.V, m.F, r.layout.uv); });
     } catch (const ParameterizationError&) {
     } catch (const std::exception& e) {
       problems.push_back("allocation #" + std::to_string(k) + ": " + typeid(e).name() +
