@@ -2,7 +2,7 @@
 
 #include "checked_descent.h"
 #include "geometry.h"
-#include "laplacian_multigrid.h"
+#include "linear/laplacian_multigrid.h"
 #include "work.h"
 
 #include <Eigen/Geometry>

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "boundary.h"
-#include "multigrid.h"
+#include "linear/multigrid.h"
 #include "patch.h"
 
 namespace sdp {

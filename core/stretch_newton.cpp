@@ -12,7 +12,7 @@
 #include "checked_descent.h"
 #include "free_boundary.h"
 #include "geometry.h"
-#include "laplacian_multigrid.h"
+#include "linear/block_multigrid.h"
 #include "parallel.h"
 #include "work.h"
 
@@ -170,17 +170,20 @@ void assembleNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& fram
   for (int i = 0; i < 2 * n; ++i) entries.emplace_back(i, i, shift);
 }
 
-// The Newton system of a large patch, never assembled (its sparse factor would not fit: 59% of
-// a step's time already at 11k vertices): per face the 4x4 h in J's coordinates, applied as
-// D^T h D on the fly, and solved by conjugate gradients preconditioned with the project's
-// multigrid on a scalar proxy. The proxy is the Laplacian the same faces give with the 2x2
-// metric (h_uu + h_vv) / 2 in place of h (g_i^T M g_j between corners i and j), its positive
-// off-diagonal entries (obtuse corners) moved onto the diagonal so it is the M-matrix the
-// multigrid needs; one cycle on u and v at once approximates the inverse of the u-u and v-v
-// blocks.
-class MatrixFreeNewtonSystem {
+// The Newton system of a large patch, never factored (its sparse factor would not fit: 59% of a
+// step's time already at 11k vertices): assembled as 2x2 blocks per vertex pair (u and v
+// together) on the pattern of a scalar stand-in, and solved by truncated conjugate gradients
+// preconditioned by one cycle of a coupled multigrid (linear/block_multigrid.h). The stand-in is
+// the Laplacian the same faces give with the 2x2 metric (h_uu + h_vv) / 2 in place of h (g_i^T M
+// g_j between corners i and j), its positive off-diagonal entries (obtuse corners) moved onto
+// the diagonal so it is the M-matrix the aggregation needs; it decides the aggregates and
+// prolongations, while the coarse levels are products of the true blocks, so the u-v coupling
+// is kept. With the stand-in's own cycle (the coupling dropped) 20 iterations halved the
+// residual; with this one 5 iterations give longer steps: face s2 (414k vertices), 10 steps
+// without a work limit, L2 1.2809 -> 1.2740 in 21.4 -> 13.2 s (bench/results/defaults.md).
+class AssembledNewtonSystem {
  public:
-  MatrixFreeNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& frames)
+  AssembledNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& frames)
       : patch_(patch), frames_(frames), hessian_(frames.size()), slot_(frames.size()) {
     const int n = patch.real_vertex_count;
     std::vector<Eigen::Triplet<double>> pattern;
@@ -205,29 +208,40 @@ class MatrixFreeNewtonSystem {
         }
   }
 
-  // The gradient and the face Hessians at `uv`, and the proxy's new values. Returns whether the
-  // multigrid could be built on the proxy.
+  // The gradient and the face Hessians at `uv`, H's 2x2 blocks and the stand-in's values from
+  // them, and the preconditioner. Returns whether it could be built.
   bool update(const LocalUVs& uv, const Energy& energy, Eigen::VectorXd& gradient) {
     const int n = patch_.real_vertex_count;
     sumOverFaces(gradient, [&](int f, Eigen::VectorXd& out) {
       Eigen::Vector4d dJ;
-      faceNewtonTerms(frames_[f], jacobian(frames_[f], patch_.face[f], uv), energy, dJ,
-                      hessian_[f]);
+      Eigen::Matrix4d h;
+      faceNewtonTerms(frames_[f], jacobian(frames_[f], patch_.face[f], uv), energy, dJ, h);
+      hessian_[f] = pack(h);
       scatter(frames_[f], patch_.face[f], dJ, out);
     });
 
     double* value = proxy_.valuePtr();
     std::fill(value, value + proxy_.nonZeros(), 0.0);
+    blocks_.assign(4 * static_cast<size_t>(proxy_.nonZeros()), 0.0);
     double proxy_trace = 0;  // half the trace of H: M is the mean of the u-u and v-v blocks
     for (int f = 0; f < patch_.real_face_count; ++f) {
       if (frames_[f].area == 0) continue;
-      const Eigen::Matrix2d M =
-          0.5 * (hessian_[f].topLeftCorner<2, 2>() + hessian_[f].bottomRightCorner<2, 2>());
+      const Eigen::Matrix4d h = unpack(hessian_[f]);
+      const Eigen::Matrix2d M = 0.5 * (h.topLeftCorner<2, 2>() + h.bottomRightCorner<2, 2>());
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
-          const double entry = frames_[f].g[a].dot(M * frames_[f].g[b]);
-          value[slot_[f][3 * a + b]] += entry;
+          const Eigen::Vector2d& ga = frames_[f].g[a];
+          const Eigen::Vector2d& gb = frames_[f].g[b];
+          const int slot = slot_[f][3 * a + b];
+          const double entry = ga.dot(M * gb);
+          value[slot] += entry;
           if (a == b) proxy_trace += entry;
+          // The 2x2 block of H at (a, b): u and v of corner a against u and v of corner b.
+          double* block = &blocks_[4 * static_cast<size_t>(slot)];
+          block[0] += ga.dot(h.topLeftCorner<2, 2>() * gb);
+          block[1] += ga.dot(h.topRightCorner<2, 2>() * gb);
+          block[2] += ga.dot(h.bottomLeftCorner<2, 2>() * gb);
+          block[3] += ga.dot(h.bottomRightCorner<2, 2>() * gb);
         }
     }
     shift_ = 1e-8 * (2 * proxy_trace) / (2 * n);  // as in assembleNewtonSystem
@@ -246,29 +260,43 @@ class MatrixFreeNewtonSystem {
         }
       }
       if (diagonal) *diagonal += moved + shift_;
+      // The shift on H's own diagonal blocks too: the preconditioner and the products see the
+      // same matrix.
+      for (int k = proxy_.outerIndexPtr()[col]; k < proxy_.outerIndexPtr()[col + 1]; ++k)
+        if (proxy_.innerIndexPtr()[k] == col) {
+          blocks_[4 * static_cast<size_t>(k)] += shift_;
+          blocks_[4 * static_cast<size_t>(k) + 3] += shift_;
+        }
     }
     spent_work_ +=
-        patch_.real_face_count * (WorkCosts::kNewtonHessianFace + 9 * WorkCosts::kNonzero) +
-        2.0 * proxy_.nonZeros() * WorkCosts::kNonzero;
+        patch_.real_face_count * (WorkCosts::kNewtonHessianFace + 45 * WorkCosts::kNonzero) +
+        4.0 * proxy_.nonZeros() * WorkCosts::kNonzero;
     const double before = preconditioner_.spentWork();
-    const bool usable = preconditioner_.update(proxy_);
+    const bool usable = preconditioner_.update(proxy_, blocks_);
     spent_work_ += preconditioner_.spentWork() - before;
     return usable;
   }
 
-  // y = H x (H as assembleNewtonSystem would assemble it).
+  // y = H x (H as assembleNewtonSystem would assemble it, from its 2x2 blocks): rows are
+  // independent, so the cores share them with no sum to order.
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    sumOverFaces(y, [&](int f, Eigen::VectorXd& out) {
-      const FaceFrame& frame = frames_[f];
-      const auto& t = patch_.face[f];
-      Eigen::Vector4d Dx = Eigen::Vector4d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        Dx.head<2>() += x[2 * t[k]] * frame.g[k];
-        Dx.tail<2>() += x[2 * t[k] + 1] * frame.g[k];
+    y.resize(x.size());
+    const int* outer = proxy_.outerIndexPtr();
+    const int* inner = proxy_.innerIndexPtr();
+    parallelFor(patch_.real_vertex_count, 8192, [&](int begin, int end, int) {
+      for (int i = begin; i < end; ++i) {
+        double u = 0, v = 0;
+        // Column i of the symmetric pattern holds block (j, i); row i needs its transpose.
+        for (int k = outer[i]; k < outer[i + 1]; ++k) {
+          const double* b = &blocks_[4 * static_cast<size_t>(k)];
+          const int j = inner[k];
+          u += b[0] * x[2 * j] + b[2] * x[2 * j + 1];
+          v += b[1] * x[2 * j] + b[3] * x[2 * j + 1];
+        }
+        y[2 * i] = u;
+        y[2 * i + 1] = v;
       }
-      scatter(frame, t, hessian_[f] * Dx, out);
     });
-    y += shift_ * x;
   }
 
   // Truncated preconditioned conjugate gradients for H d = -gradient from d = 0, to the
@@ -302,8 +330,8 @@ class MatrixFreeNewtonSystem {
     }
     // Per iteration one product H p (face by face), one cycle (counted by the
     // preconditioner) and about eight vector passes.
-    spent_work_ += it * (patch_.real_face_count * WorkCosts::kHessianVectorFace +
-                         8.0 * size * WorkCosts::kVectorEntry);
+    spent_work_ +=
+        it * (4.0 * proxy_.nonZeros() * WorkCosts::kNonzero + 8.0 * size * WorkCosts::kVectorEntry);
     return it;
   }
 
@@ -342,10 +370,26 @@ class MatrixFreeNewtonSystem {
 
   const Patch& patch_;
   const std::vector<FaceFrame>& frames_;
-  std::vector<Eigen::Matrix4d> hessian_;  // per face with area (the others are never read)
+  // The symmetric 4x4 face Hessians, their 10 upper entries row by row (80 instead of 128 bytes
+  // per face: 160 MB less at 1.65M vertices), per face with area (the others are never read).
+  using PackedHessian = std::array<double, 10>;
+  static PackedHessian pack(const Eigen::Matrix4d& h) {
+    PackedHessian p;
+    for (int r = 0, k = 0; r < 4; ++r)
+      for (int c = r; c < 4; ++c) p[k++] = h(r, c);
+    return p;
+  }
+  static Eigen::Matrix4d unpack(const PackedHessian& p) {
+    Eigen::Matrix4d h;
+    for (int r = 0, k = 0; r < 4; ++r)
+      for (int c = r; c < 4; ++c, ++k) h(r, c) = h(c, r) = p[k];
+    return h;
+  }
+  std::vector<PackedHessian> hessian_;
   std::vector<std::array<int, 9>> slot_;
   Eigen::SparseMatrix<double> proxy_;
-  LaplacianMultigrid preconditioner_;
+  std::vector<double> blocks_;  // H's 2x2 blocks, 4 per nonzero of proxy_ in its order
+  CoupledMultigrid preconditioner_;
   double shift_ = 0;
   mutable std::vector<Eigen::VectorXd> partial_;
   mutable double spent_work_ = 0;
@@ -395,7 +439,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     bool analyzed = false;
     std::vector<Eigen::Triplet<double>> entries;
     Eigen::SparseMatrix<double> H;
-    std::optional<MatrixFreeNewtonSystem> matrix_free;
+    std::optional<AssembledNewtonSystem> matrix_free;
     if (direct) {
       H.resize(2 * n, 2 * n);
     } else {

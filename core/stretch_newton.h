@@ -35,10 +35,11 @@ struct StretchNewtonSettings {
   // Relative residual of the conjugate gradients: a truncated Newton step (any iterate
   // descends; the line search makes it safe).
   double cg_tolerance = 1e-2;
-  // The tolerance is rarely met (the proxy drops the u-v coupling): this cap decides. At 103k
-  // vertices, K = 10 without a time limit, 10 / 20 / 40 iterations gave L2 1.283 / 1.279 /
-  // 1.298 (40: longer steps that soon gained under 0.1%) in 3.5 / 5.1 / 4.9 s.
-  int cg_max_iterations = 20;
+  // The tolerance is rarely met in a few iterations: this cap decides. K = 10 without a work
+  // limit, the coupled preconditioner: at 103k vertices 3 / 5 / 10 iterations gave L2 1.268 /
+  // 1.264 / 1.289 (10: longer steps that soon gained under 0.1%); at 414k 3 / 5 / 8 gave
+  // 1.279 / 1.274 / 1.270 in 16.2 / 15.5 / 18.2 s of Newton steps.
+  int cg_max_iterations = 5;
 };
 
 // True when a patch of `vertices` real vertices takes the conjugate-gradient path.

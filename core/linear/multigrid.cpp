@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "parallel.h"
-#include "work.h"
+#include "core/parallel.h"
+#include "core/work.h"
 
 namespace sdp {
 namespace {
@@ -189,7 +189,9 @@ Csr smoothedProlongation(const SplitCsr& A, const std::vector<int>& agg, int agg
   return P;
 }
 
-Csr transpose(const Csr& M) {
+}  // namespace
+
+Csr transposed(const Csr& M) {
   Csr T;
   T.rows = M.cols;
   T.cols = M.rows;
@@ -208,10 +210,12 @@ Csr transpose(const Csr& M) {
   return T;
 }
 
+namespace {
+
 // A_c = R A P with R = P^T, row by row of R without forming A P (which would be the largest
 // temporary of the setup). Coarse rows are split into one contiguous chunk per thread.
 SplitCsr galerkin(const SplitCsr& A, const Csr& P) {
-  const Csr R = transpose(P);
+  const Csr R = transposed(P);
   const int nc = R.rows;
   std::vector<Csr> chunk(parallelWorkers());
   parallelFor(nc, 2048, [&](int first, int last, int worker) {

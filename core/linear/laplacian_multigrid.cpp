@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "work.h"
+#include "core/work.h"
 
 namespace sdp {
 

@@ -47,6 +47,7 @@ struct SplitCsr {
 struct Csr : CsrRows {
   int rows = 0, cols = 0;
 };
+Csr transposed(const Csr& M);
 
 struct MultigridSettings {
   double strength = 0.08;   // a_ij is strong when a_ij^2 > strength^2 a_ii a_jj (halved per level)
@@ -85,6 +86,9 @@ class Multigrid {
   const SplitCsr& fine() const { return levels_.front().A; }
   int levelCount() const { return static_cast<int>(levels_.size()); }
   const SplitCsr& levelMatrix(int level) const { return levels_[level].A; }
+  // Level `level`'s prolongation from level + 1 (rows: level's unknowns, columns: the coarser
+  // level's); none on the last level.
+  const Csr& prolongation(int level) const { return levels_[level].P; }
   double operatorComplexity() const;  // sum of nnz over all levels / nnz of level 0
   long long memoryBytes() const;
   // Work (work.h) of one cycle on u and v, of one BiCGSTAB iteration (two cycles, two products,

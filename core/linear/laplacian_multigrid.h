@@ -33,6 +33,11 @@ class LaplacianMultigrid {
   // z = one multigrid cycle for L z = r on two columns interleaved per row (r[2i], r[2i + 1]):
   // an approximate inverse of L on u and v at once.
   void applyCycle(const double* r, double* z) const;
+  // The hierarchy on the scaled matrix A = S^-1 L S^-1 in breadth-first numbering: row p of A is
+  // row order()[p] of L, and S = diag(rootDiagonal()) in L's numbering.
+  const Multigrid& hierarchy() const { return multigrid_; }
+  const std::vector<int>& order() const { return order_; }
+  const std::vector<double>& rootDiagonal() const { return root_diagonal_; }
   // Work (work.h) of all the calls so far: setup, iterations, cycles.
   double spentWork() const { return spent_work_; }
 
