@@ -79,6 +79,61 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
   return m;
 }
 
+StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layout& layout) {
+  const int faces = static_cast<int>(F.rows());
+  StretchMetrics m;
+  m.face_l2.resize(faces);
+  std::vector<FaceStretch> stretch(faces);
+  std::vector<double> chart_area;
+  double area2d = 0, area3d = 0, weighted = 0, worst = 0;
+  // Both frames centred and scaled to unit size first (the normalized stretch does not change):
+  // a mesh at 1e-90 or 1e90 would otherwise underflow or overflow in the squared lengths.
+  Eigen::RowVector3d low3 = Eigen::RowVector3d::Constant(std::numeric_limits<double>::max());
+  Eigen::RowVector3d high3 = -low3;
+  Eigen::RowVector2d low2 = Eigen::RowVector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::RowVector2d high2 = -low2;
+  for (int f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) {
+      low3 = low3.cwiseMin(V.row(F(f, k)));
+      high3 = high3.cwiseMax(V.row(F(f, k)));
+      low2 = low2.cwiseMin(layout.corner(f, k));
+      high2 = high2.cwiseMax(layout.corner(f, k));
+    }
+  const double size3 = std::max((high3 - low3).maxCoeff(), std::numeric_limits<double>::min());
+  const double size2 = std::max((high2 - low2).maxCoeff(), std::numeric_limits<double>::min());
+  const Eigen::RowVector3d centre3 = 0.5 * (low3 + high3);
+  const Eigen::RowVector2d centre2 = 0.5 * (low2 + high2);
+  for (int f = 0; f < faces; ++f) {
+    Eigen::Vector3d q[3];
+    Eigen::Vector2d p[3];
+    for (int k = 0; k < 3; ++k) {
+      q[k] = ((V.row(F(f, k)) - centre3) / size3).transpose();
+      p[k] = ((layout.corner(f, k) - centre2) / size2).transpose();
+    }
+    stretch[f] = faceStretch(q, p);
+    const int c = layout.chart.empty() ? 0 : layout.chart[f];
+    if (c >= static_cast<int>(chart_area.size())) chart_area.resize(c + 1, 0.0);
+    chart_area[c] += stretch[f].area2d;
+    area3d += stretch[f].area3d;
+  }
+  std::vector<FlipRule> rule;
+  for (double total : chart_area) {
+    rule.emplace_back(total);
+    area2d += std::abs(total);
+  }
+  for (int f = 0; f < faces; ++f) {
+    if (rule[layout.chart.empty() ? 0 : layout.chart[f]].flipped(stretch[f].area2d))
+      ++m.flipped_faces;
+    weighted += stretch[f].l2 * stretch[f].l2 * stretch[f].area3d;
+    worst = std::max(worst, stretch[f].linf);
+  }
+  const double normalize = std::sqrt(area2d / area3d);
+  m.l2 = std::sqrt(weighted / area3d) * normalize;
+  m.linf = worst * normalize;
+  for (int f = 0; f < faces; ++f) m.face_l2[f] = stretch[f].l2 * normalize;
+  return m;
+}
+
 int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
   const int faces = patch.real_face_count;
   std::vector<double> area(faces);

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "layout.h"
 #include "patch.h"
 
 namespace sdp {
@@ -35,7 +36,9 @@ class FlipRule {
   explicit FlipRule(double total_signed_area)
       : orientation_(total_signed_area < 0 ? -1.0 : 1.0),
         tiny_(1e-14 * (total_signed_area < 0 ? -total_signed_area : total_signed_area)) {}
-  bool flipped(double signed_area) const { return !(orientation_ * signed_area > tiny_); }
+  bool flipped(double signed_area) const { return !(margin(signed_area) > 0); }
+  // How far a face is from flipped (positive: valid).
+  double margin(double signed_area) const { return orientation_ * signed_area - tiny_; }
 
  private:
   double orientation_, tiny_;
@@ -43,6 +46,10 @@ class FlipRule {
 
 // UVs are per patch vertex; flipped faces by FlipRule.
 StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vector2d>& uv);
+
+// The same measures of a layout on the input triangles (V, F): per face its corners' rows, the
+// flip rule per chart, one normalization over the whole layout (vertex_l2 left empty).
+StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layout& layout);
 
 // Only the flipped-face count of stretchMetrics (same rule), without the stretch.
 int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv);

@@ -102,23 +102,6 @@ void reweightByStretch(const Patch& patch, const std::vector<double>& vertex_l2,
 }  // namespace
 
 namespace {
-
-// Scales and moves the UVs uniformly (aspect kept) so the real vertices span [0,1] on the
-// longer side, centred: a texture then covers the patch once. Stretch measures do not change.
-void fitUnitSquare(const Patch& patch, LocalUVs& uv) {
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
-  Eigen::Vector2d high = -low;
-  for (int v = 0; v < patch.real_vertex_count; ++v) {
-    low = low.cwiseMin(uv[v]);
-    high = high.cwiseMax(uv[v]);
-  }
-  const double extent = (high - low).maxCoeff();
-  if (!(extent > 0) || !std::isfinite(extent))
-    throw ParameterizationError("the parameterization has no extent");
-  const Eigen::Vector2d centre = 0.5 * (low + high);
-  for (auto& p : uv) p = (p - centre) / extent + Eigen::Vector2d::Constant(0.5);
-}
-
 UVMeasures measureUVsChecked(const Positions& V, const Triangles& F, const UVs& uv);
 }  // namespace
 
@@ -287,18 +270,20 @@ class Pipeline {
                            "or wandered)");
   }
 
-  // The map as the front end stores it: in its frame, rounded, repaired where rounding would
-  // degenerate a face (storage.h); the report then describes exactly those UVs.
-  void store() {
+  // The map as the front end stores it (storage.h): the layout at its natural scale (3D units)
+  // in the input's numbering, fitted, rounded, repaired where rounding would degenerate a face
+  // and certified, all by the store step; the report then describes exactly those values.
+  void store(const Triangles& F) {
     clock_.begin("storage", Stage::Storage);
-    for (auto& p : uv_) p *= patch_.unit;
-    if (options_.fit_unit_square) fitUnitSquare(patch_, uv_);
-    const StorageCounts storage = roundForStorage(patch_, uv_, options_.storage);
-    if (options_.fit_unit_square || options_.storage != UVStorage::Double) {
-      metrics_ = stretchMetrics(patch_, uv_);
-      if (metrics_.flipped_faces > 0)
-        throw ParameterizationError("internal error: the stored map has flipped faces");
-    }
+    UVs uv = UVs::Zero(V_.rows(), 2);
+    for (int v = 0; v < patch_.real_vertex_count; ++v)
+      uv.row(patch_.input_vertex[v]) = patch_.unit * uv_[v].transpose();
+    result_.layout = Layout::perVertex(std::move(uv), F);
+    StoragePolicy policy;
+    policy.fit_unit_square = options_.fit_unit_square;
+    policy.precision = options_.storage;
+    const StorageCounts storage = sdp::store(result_.layout, policy);
+    metrics_ = layoutStretch(V_, F, result_.layout);
     Report& r = report();
     r.storage = uvStorageName(options_.storage);
     r.storage_degenerate_faces = storage.degenerate_faces;
@@ -313,13 +298,11 @@ class Pipeline {
     r.l2_stretch = metrics_.l2;
     r.linf_stretch = metrics_.linf;
     r.flipped_faces = metrics_.flipped_faces;
+    if (r.flipped_faces > 0)
+      throw ParameterizationError("internal error: the stored map has flipped faces");
   }
 
-  Result finish(const Triangles& F) {
-    UVs uv = UVs::Zero(V_.rows(), 2);
-    for (int v = 0; v < patch_.real_vertex_count; ++v)
-      uv.row(patch_.input_vertex[v]) = uv_[v].transpose();
-    result_.layout = Layout::perVertex(std::move(uv), F);
+  Result finish() {
     result_.face_stretch = std::move(metrics_.face_l2);
     report().seconds = std::chrono::duration<double>(Clock::now() - run_start_).count();
     progress_.done();
@@ -533,8 +516,8 @@ Result parameterizeChecked(const Positions& V, const Triangles& F, const Options
   run.solveOneToOne();
   run.refine();
   run.countFallbacks();
-  run.store();
-  return run.finish(F);
+  run.store(F);
+  return run.finish();
 }
 
 }  // namespace

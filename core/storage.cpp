@@ -55,146 +55,214 @@ class Rounding {
   UVStorage storage_;
 };
 
-class StoredMap {
- public:
-  StoredMap(const Patch& patch, LocalUVs& uv, UVStorage storage)
-      : patch_(patch), uv_(uv), rounding_(storage), text_(uv.size()) {
-    double total = 0;
-    for (int f = 0; f < patch.real_face_count; ++f) {
-      const auto& t = patch.face[f];
-      total += signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
+// The layout's triangles as a mesh of their own: rows of layout.uv are its vertices, face_uv
+// its faces. Per row the faces around it and the rows next to it; the border edges (an edge of
+// one face only: chart outlines, holes, seams); per chart the flip rule of metrics.h.
+struct UvMesh {
+  explicit UvMesh(const Layout& layout) : face(layout.face_uv) {
+    const int rows = static_cast<int>(layout.uv.rows());
+    const int faces = layout.faceCount();
+    used.assign(rows, 0);
+    face_begin.assign(rows + 1, 0);
+    for (int f = 0; f < faces; ++f)
+      for (int k = 0; k < 3; ++k) ++face_begin[face(f, k) + 1];
+    for (int r = 0; r < rows; ++r) face_begin[r + 1] += face_begin[r];
+    face_list.resize(face_begin[rows]);
+    std::vector<int> fill(face_begin.begin(), face_begin.end() - 1);
+    for (int f = 0; f < faces; ++f)
+      for (int k = 0; k < 3; ++k) {
+        face_list[fill[face(f, k)]++] = f;
+        used[face(f, k)] = 1;
+      }
+    // Per row, the other ends of the edges at it in its faces: an edge met once is a border
+    // edge, and the distinct ends are the row's neighbours (a local sort per row, no global one).
+    neighbour_begin.assign(rows + 1, 0);
+    neighbour_list.reserve(face_list.size() * 2);
+    std::vector<int> ends;
+    for (int r = 0; r < rows; ++r) {
+      ends.clear();
+      for (int i = face_begin[r]; i < face_begin[r + 1]; ++i) {
+        const int f = face_list[i];
+        for (int k = 0; k < 3; ++k)
+          if (face(f, k) == r) {
+            ends.push_back(face(f, (k + 1) % 3));
+            ends.push_back(face(f, (k + 2) % 3));
+          }
+      }
+      std::sort(ends.begin(), ends.end());
+      for (size_t i = 0; i < ends.size();) {
+        size_t j = i;
+        while (j < ends.size() && ends[j] == ends[i]) ++j;
+        neighbour_list.push_back(ends[i]);
+        if (j - i == 1 && r < ends[i]) border.push_back({r, ends[i]});
+        i = j;
+      }
+      neighbour_begin[r + 1] = static_cast<int>(neighbour_list.size());
     }
-    orientation_ = total < 0 ? -1.0 : 1.0;
-    // The flip rule of metrics.h: positive by more than 1e-14 of the total.
-    tiny_ = 1e-14 * std::abs(total);
-    for (int v = 0; v < patch.real_vertex_count; ++v) place(v, uv[v]);
+    chart = layout.chart.empty() ? std::vector<int>(faces, 0) : layout.chart;
   }
 
-  // Moves v to the storable position nearest p.
-  void place(int v, const Eigen::Vector2d& p) {
-    const Eigen::Vector2d memory = rounding_.memory(p), text = rounding_.text(p);
-    uv_[v] = memory;
-    text_[v] = text;
+  const Triangles& face;
+  std::vector<char> used;                            // the row is a corner of some face
+  std::vector<int> face_begin, face_list;            // faces around each row
+  std::vector<int> neighbour_begin, neighbour_list;  // rows sharing a face with each row
+  std::vector<BorderEdge> border;
+  std::vector<int> chart;  // per face
+};
+
+class StoredMap {
+ public:
+  StoredMap(const UvMesh& mesh, LocalUVs& uv, UVStorage storage)
+      : mesh_(mesh), uv_(uv), rounding_(storage), text_(uv.size()) {
+    std::vector<double> chart_area;
+    for (int f = 0; f < static_cast<int>(mesh.face.rows()); ++f) {
+      const int c = mesh.chart[f];
+      if (c >= static_cast<int>(chart_area.size())) chart_area.resize(c + 1, 0.0);
+      chart_area[c] += area(uv, f);
+    }
+    for (double total : chart_area) rule_.emplace_back(total);
+    for (size_t r = 0; r < uv.size(); ++r)
+      if (mesh.used[r]) place(static_cast<int>(r), uv[r]);
+  }
+
+  // Moves row r to the storable position nearest p.
+  void place(int r, const Eigen::Vector2d& p) {
+    uv_[r] = rounding_.memory(p);
+    text_[r] = rounding_.text(p);
   }
 
   // How far face f is from degenerate as stored (memory and text); positive means valid.
   double margin(int f) const {
-    const auto& t = patch_.face[f];
-    const double memory = orientation_ * signedArea(uv_[t[0]], uv_[t[1]], uv_[t[2]]);
-    const double text = orientation_ * signedArea(text_[t[0]], text_[t[1]], text_[t[2]]);
-    return std::min(memory, text) - tiny_;
+    const FlipRule& rule = rule_[mesh_.chart[f]];
+    return std::min(rule.margin(area(uv_, f)), rule.margin(area(text_, f)));
   }
   bool valid(int f) const { return margin(f) > 0; }
 
-  // The smallest margin of the real faces around v.
-  double vertexMargin(int v) const {
+  // The smallest margin of the faces around row r.
+  double rowMargin(int r) const {
     double lowest = std::numeric_limits<double>::infinity();
-    for (int k = patch_.ring_begin[v]; k < patch_.ring_begin[v + 1]; ++k) {
-      const int f = patch_.ring_face[k];
-      if (f >= 0 && f < patch_.real_face_count) lowest = std::min(lowest, margin(f));
-    }
+    for (int i = mesh_.face_begin[r]; i < mesh_.face_begin[r + 1]; ++i)
+      lowest = std::min(lowest, margin(mesh_.face_list[i]));
     return lowest;
   }
 
-  // Tries moving v a fraction of the way to the centroid of its real neighbours; keeps the
-  // first (longest) move that raises the smallest margin around v.
-  bool improve(int v) {
+  // Tries moving r a fraction of the way to the centroid of its neighbours; keeps the first
+  // (longest) move that raises the smallest margin around r.
+  bool improve(int r) {
     Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-    int count = 0;
-    for (int k = patch_.ring_begin[v]; k < patch_.ring_begin[v + 1]; ++k) {
-      const int n = patch_.ring_vertex[k];
-      if (n < patch_.real_vertex_count) {
-        centroid += uv_[n];
-        ++count;
-      }
-    }
+    const int count = mesh_.neighbour_begin[r + 1] - mesh_.neighbour_begin[r];
     if (count == 0) return false;
+    for (int i = mesh_.neighbour_begin[r]; i < mesh_.neighbour_begin[r + 1]; ++i)
+      centroid += uv_[mesh_.neighbour_list[i]];
     centroid /= count;
-    const Eigen::Vector2d origin = uv_[v], origin_text = text_[v];
-    const double before = vertexMargin(v);
+    const Eigen::Vector2d origin = uv_[r], origin_text = text_[r];
+    const double before = rowMargin(r);
     for (int halvings = 0; halvings <= 6; ++halvings) {
       const Eigen::Vector2d p = origin + std::ldexp(1.0, -halvings) * (centroid - origin);
-      place(v, p);
-      if (uv_[v] == origin) break;  // closer moves round to where v already is
-      if (vertexMargin(v) > before) return true;
+      place(r, p);
+      if (uv_[r] == origin) break;  // closer moves round to where r already is
+      if (rowMargin(r) > before) return true;
     }
-    uv_[v] = origin;
-    text_[v] = origin_text;
+    uv_[r] = origin;
+    text_[r] = origin_text;
     return false;
   }
 
  private:
-  const Patch& patch_;
+  double area(const LocalUVs& uv, int f) const {
+    return signedArea(uv[mesh_.face(f, 0)], uv[mesh_.face(f, 1)], uv[mesh_.face(f, 2)]);
+  }
+
+  const UvMesh& mesh_;
   LocalUVs& uv_;
   Rounding rounding_;
   LocalUVs text_;
-  double orientation_ = 1, tiny_ = 0;
+  std::vector<FlipRule> rule_;  // per chart
 };
+
+// Uniform scale and translation of the used rows into [0,1] on the longer side, centred.
+void fitUnitSquare(const UvMesh& mesh, LocalUVs& uv) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high = -low;
+  for (size_t r = 0; r < uv.size(); ++r)
+    if (mesh.used[r]) {
+      low = low.cwiseMin(uv[r]);
+      high = high.cwiseMax(uv[r]);
+    }
+  const double extent = (high - low).maxCoeff();
+  if (!(extent > 0) || !std::isfinite(extent))
+    throw ParameterizationError("the parameterization has no extent");
+  const Eigen::Vector2d centre = 0.5 * (low + high);
+  for (auto& p : uv) p = (p - centre) / extent + Eigen::Vector2d::Constant(0.5);
+}
 
 }  // namespace
 
-StorageCounts roundForStorage(const Patch& patch, LocalUVs& uv, UVStorage storage) {
+StorageCounts store(Layout& layout, const StoragePolicy& policy) {
   StorageCounts counts;
-  if (storage == UVStorage::Double) return counts;
-  StoredMap map(patch, uv, storage);
+  const UvMesh mesh(layout);
+  LocalUVs uv(layout.uv.rows());
+  for (size_t r = 0; r < uv.size(); ++r) uv[r] = layout.uv.row(r).transpose();
+  if (policy.fit_unit_square) fitUnitSquare(mesh, uv);
+  const int faces = layout.faceCount();
+  StoredMap map(mesh, uv, policy.precision);
   std::vector<int> bad;
-  for (int f = 0; f < patch.real_face_count; ++f)
+  for (int f = 0; f < faces; ++f)
     if (!map.valid(f)) bad.push_back(f);
   counts.degenerate_faces = static_cast<int>(bad.size());
 
-  // Active vertices: the corners of the faces still degenerate, grown by one ring after each
-  // sweep that fixed none of them (the tiny faces sit in a cluster that needs room around it).
-  std::vector<char> moved(patch.real_vertex_count, 0), active(patch.real_vertex_count, 0);
+  // Active rows: the corners of the faces still degenerate, grown by one ring after each sweep
+  // that fixed none of them (the tiny faces sit in a cluster that needs room around it).
+  std::vector<char> moved(uv.size(), 0), active(uv.size(), 0);
   int rings = 0;
   constexpr int kMaxSweeps = 200, kMaxRings = 12;
   while (!bad.empty() && counts.rounds < kMaxSweeps) {
     ++counts.rounds;
-    std::vector<int> vertices;
+    std::vector<int> rows;
     std::fill(active.begin(), active.end(), 0);
     for (int f : bad)
-      for (int v : patch.face[f])
-        if (!active[v]) {
-          active[v] = 1;
-          vertices.push_back(v);
+      for (int k = 0; k < 3; ++k)
+        if (!active[mesh.face(f, k)]) {
+          active[mesh.face(f, k)] = 1;
+          rows.push_back(mesh.face(f, k));
         }
     for (int ring = 0; ring < rings; ++ring) {
-      const size_t end = vertices.size();
+      const size_t end = rows.size();
       for (size_t i = 0; i < end; ++i)
-        for (int k = patch.ring_begin[vertices[i]]; k < patch.ring_begin[vertices[i] + 1]; ++k) {
-          const int n = patch.ring_vertex[k];
-          if (n < patch.real_vertex_count && !active[n]) {
+        for (int k = mesh.neighbour_begin[rows[i]]; k < mesh.neighbour_begin[rows[i] + 1]; ++k) {
+          const int n = mesh.neighbour_list[k];
+          if (!active[n]) {
             active[n] = 1;
-            vertices.push_back(n);
+            rows.push_back(n);
           }
         }
     }
-    for (int v : vertices)
-      if (map.improve(v)) moved[v] = 1;
+    for (int r : rows)
+      if (map.improve(r)) moved[r] = 1;
     std::vector<int> still;
     for (int f : bad)
       if (!map.valid(f)) still.push_back(f);
     // Moves may push a neighbouring face below zero: look at every face around the active set.
-    for (int v : vertices)
-      for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) {
-        const int f = patch.ring_face[k];
-        if (f >= 0 && f < patch.real_face_count && !map.valid(f)) still.push_back(f);
-      }
+    for (int r : rows)
+      for (int i = mesh.face_begin[r]; i < mesh.face_begin[r + 1]; ++i)
+        if (!map.valid(mesh.face_list[i])) still.push_back(mesh.face_list[i]);
     std::sort(still.begin(), still.end());
     still.erase(std::unique(still.begin(), still.end()), still.end());
     if (still.size() >= bad.size()) rings = std::min(rings + 1, kMaxRings);
     bad.swap(still);
   }
   counts.moved_vertices = static_cast<int>(std::count(moved.begin(), moved.end(), 1));
-  const char* name = uvStorageName(storage);
+  const char* name = uvStorageName(policy.precision);
   if (!bad.empty())
     throw ParameterizationError("no one-to-one map as stored (" + std::string(name) +
                                 " texture coordinates): " + std::to_string(bad.size()) +
                                 " faces stay flipped or degenerate after moving " +
                                 std::to_string(counts.moved_vertices) +
                                 " vertices (the map compresses them too much)");
-  if (!boundaryIsSimple(patch, uv))
+  if (!edgesAreSimple(mesh.border, uv))
     throw ParameterizationError("no one-to-one map as stored (" + std::string(name) +
                                 " texture coordinates): the rounded boundary touches itself");
+  for (size_t r = 0; r < uv.size(); ++r) layout.uv.row(r) = uv[r].transpose();
   return counts;
 }
 

@@ -5,26 +5,38 @@
 // one-to-one in double. This stage rounds the map to its storage and, where a face would
 // degenerate, repairs it: the corners of such faces move (to storable positions) towards the
 // centroid of their neighbours, each move kept only when it raises the smallest stored area
-// around that vertex; the neighbourhood grows ring by ring while that is not enough.
+// around that vertex; the neighbourhood grows ring by ring while that is not enough. It works
+// on the layout's own triangles (face_uv), so seams and several charts need nothing more.
 #pragma once
 
+#include <string>
+
+#include "layout.h"
 #include "options.h"
-#include "patch.h"
-#include "solve.h"
 
 namespace sdp {
 
+// How the front end keeps the layout.
+struct StoragePolicy {
+  // Scale and move the whole layout uniformly (aspect kept) so the texture coordinates its
+  // faces use span [0,1] on the longer side, centred; else keep the layout's own frame.
+  bool fit_unit_square = false;
+  UVStorage precision = UVStorage::Double;
+};
+
 struct StorageCounts {
   int degenerate_faces = 0;  // faces flipped or degenerate once rounded, before the repair
-  int moved_vertices = 0;    // distinct vertices the repair moved
+  int moved_vertices = 0;    // distinct texture coordinates (layout rows) the repair moved
   int rounds = 0;            // repair sweeps
 };
 
-// `uv` per patch vertex, in the frame that will be stored (e.g. fitted to the unit square). The
-// real vertices' UVs are rounded in place to values the storage holds exactly (for
-// FloatAndSixDecimals: the float of the 6-decimal text, which the exporter writes back as that
-// text), then repaired. Throws ParameterizationError with the reason when some face stays
-// flipped or degenerate, or the boundary would cross itself, as stored.
-StorageCounts roundForStorage(const Patch& patch, LocalUVs& uv, UVStorage storage);
+// The store step, over a whole layout (all its charts at once): fits it (policy), rounds every
+// texture coordinate a face uses to a value the storage holds exactly (for FloatAndSixDecimals:
+// the float of the 6-decimal text, which the exporter writes back as that text), repairs the
+// faces that rounding would degenerate, then certifies the stored values: no face of a chart
+// flipped or degenerate against that chart's orientation, and no two edges of the charts'
+// borders crossing or touching (within a chart or between charts). Throws ParameterizationError
+// with what failed; on success `layout` holds exactly the stored values.
+StorageCounts store(Layout& layout, const StoragePolicy& policy);
 
 }  // namespace sdp

@@ -95,7 +95,8 @@ TEST(FreeBoundary, CircleSquareAndFixedBoundaryKeepTheBoundary) {
   fixed.free_boundary = false;
   const Result r = parameterize(m.V, m.F, fixed);
   EXPECT_EQ(r.report.free_boundary_steps, 0);
-  EXPECT_EQ(r.report.l2_stretch, r.report.l2_stretch_fixed_boundary);
+  // The same map; measured again as stored (on the input positions), so equal to rounding.
+  EXPECT_NEAR(r.report.l2_stretch, r.report.l2_stretch_fixed_boundary, 1e-12);
   Options free = fixed;
   free.free_boundary = true;
   EXPECT_LT(parameterize(m.V, m.F, free).report.l2_stretch, r.report.l2_stretch);
