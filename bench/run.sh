@@ -10,6 +10,9 @@ repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo_dir"
 bash scripts/install-deps.sh
 .venv/bin/python -m pip install --disable-pip-version-check -q matplotlib
+# Blender as a peer (pip bpy 5.0.1, GPL: bench only, in a venv of its own, never the product's).
+if [[ ! -x .venv-blender/bin/python ]]; then /usr/bin/python3 -m venv .venv-blender; fi
+.venv-blender/bin/python -m pip install --disable-pip-version-check -q "bpy==5.0.1"
 build_dir="${SDP_BUILD_DIR:-$repo_dir/build}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_cgal_peer straightest_param sdp_reader_bench sdp_png_bench

@@ -78,7 +78,7 @@ FlatFace flatten(const Patch& patch, int f) {
     const double cross = std::abs(cross2(u, v));
     // Cotangent weights kept in [0.01, 1e4]: positive, so the global step is an M-matrix the
     // project's multigrid solves in a few iterations (exact cotangents, negative at obtuse
-    // angles, need a Cholesky factor: 7 s for 3 steps at 414k vertices instead of 1), and a
+    // angles, need a Cholesky factor, several times slower: docs/measurements.md), and a
     // needle's huge cotangent cannot swamp the system. Any positive weights give a valid
     // local/global descent; on the shared meshes the stretch reached was the same to 3 digits.
     constexpr double kLow = 0.01, kHigh = 1e4;

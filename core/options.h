@@ -32,7 +32,7 @@ std::optional<BoundaryShape> parseBoundaryShape(const std::string& name);
 std::optional<SourceRule> parseSourceRule(const std::string& name);
 
 // Called with a stage name and a percentage (0..100) of the whole run; returning false cancels
-// the run (the core then throws ParameterizationError("cancelled")).
+// the run (the core then throws ParameterizationError("cancelled by the user")).
 using ProgressCallback = std::function<bool(const char* stage, int percent)>;
 
 // The product's defaults for every front end (dialog, pymeshlab, CLI): refined, with a work

@@ -1,15 +1,13 @@
 // Eq. (1): sum_j a_ij (U_j - U_i) = 0 for interior vertices, boundary vertices fixed.
 // Interior unknowns only. Large systems: BiCGSTAB preconditioned by smoothed-aggregation
 // multigrid (multigrid.h), u and v at once, the hierarchy kept across calls; small systems, and
-// any iterative solve that does not converge tightly, use the sparse LU factorization.
+// any iterative solve that does not converge tightly, use the sparse LU factorization. Why
+// multigrid (against SparseLU, UMFPACK, ILUT-BiCGSTAB, measured by bench/solver_bench):
+// docs/measurements.md.
 //
-// Measured by bench/solver_bench (face.off subdivided, straightest weights, 2-core VM; seconds
-// for u and v to a relative residual of 1e-10, the LU columns exact):
-//   vertices   SparseLU   UMFPACK   BiCGSTAB+ILUT   multigrid (iterations)
-//   11k          0.11        -            -           0.03 (10)
-//   104k         3.3        1.9          3.4          0.20 (8)
-//   414k        10.4       11.6         33           0.85 (8)
-//   1.65M         -       110             -           4.0  (8)
+// Numbering: patch vertices (patch.h) in, patch vertices out; inside, interior unknowns in
+// breadth-first order (unknown_ / interior_vertex_). Matrix: #interior x #interior, u and v
+// solved together as two interleaved right-hand sides.
 #pragma once
 
 #include <Eigen/Core>

@@ -35,10 +35,8 @@ struct StretchNewtonSettings {
   // Relative residual of the conjugate gradients: a truncated Newton step (any iterate
   // descends; the line search makes it safe).
   double cg_tolerance = 1e-2;
-  // The tolerance is rarely met in a few iterations: this cap decides. K = 10 without a work
-  // limit, the coupled preconditioner: at 103k vertices 3 / 5 / 10 iterations gave L2 1.268 /
-  // 1.264 / 1.289 (10: longer steps that soon gained under 0.1%); at 414k 3 / 5 / 8 gave
-  // 1.279 / 1.274 / 1.270 in 16.2 / 15.5 / 18.2 s of Newton steps.
+  // The tolerance is rarely met in a few iterations: this cap decides (3, 5, 8 and 10 measured:
+  // docs/measurements.md).
   int cg_max_iterations = 5;
 };
 

@@ -54,11 +54,9 @@ struct MultigridSettings {
   int coarsest_size = 400;  // solved by dense LU at or below this many unknowns
   int coarsest_limit = 3000;  // larger when coarsening stalls: the hierarchy is not usable
   int max_levels = 16;
-  // Coarse corrections per level: 2 = W-cycle. With 8-fold coarsening a W-cycle costs 25% more
-  // than a V-cycle and saves 3 of 11 BiCGSTAB iterations (15% less time at 414k vertices).
+  // Coarse corrections per level: 2 = W-cycle (measured against V: docs/measurements.md).
   int cycle_index = 2;
-  // Power iterations for the spectral radius in the prolongation damping (4, 6 and 8 all gave
-  // 8 BiCGSTAB iterations at 104k and 414k vertices).
+  // Power iterations for the spectral radius in the prolongation damping (docs/measurements.md).
   int power_iterations = 6;
 };
 
