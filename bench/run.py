@@ -53,6 +53,14 @@ class Bench:
     def cgal(self, mesh, method, subdivisions=0):
         return run_json([self.bin / "sdp_cgal_peer", mesh, method, subdivisions])
 
+    def blender(self, mesh, method):
+        """Blender's Unwrap (bench/blender_peer.py) in .venv-blender, which bench/run.sh makes."""
+        python = REPO / ".venv-blender" / "bin" / "python"
+        if not python.exists():
+            return {"error": ["bpy not installed (bench/run.sh installs it)"]}
+        return run_json([python, REPO / "bench" / "blender_peer.py", mesh, method,
+                         self.bin / "sdp_score"])
+
     def meshlab(self, mesh, method):
         return run_json([self.python, REPO / "bench" / "meshlab_peer.py", mesh, method,
                          self.bin / "sdp_score"])
@@ -99,6 +107,8 @@ def quality(bench, meshes):
             rows.append({"mesh": name, **row_of(f"CGAL {m}/circle", bench.cgal(mesh, m))})
         for m in ["harmonic", "lscm"]:
             rows.append({"mesh": name, **row_of(f"MeshLab {m}", bench.meshlab(mesh, m))})
+        for m, label in (("slim", "Blender minimum stretch"), ("abf", "Blender angle based")):
+            rows.append({"mesh": name, **row_of(label, bench.blender(mesh, m))})
     return rows
 
 
@@ -115,7 +125,8 @@ def quality_markdown(rows, meshes):
                 f"ours straightest/measured K={REFINE_ITERATIONS}",
                 "ours straightest/circle", "ours ltd/circle", "ours floater/circle",
                 "ours mean_value/circle", "CGAL mean_value/circle", "CGAL tutte/circle",
-                "CGAL conformal/circle", "CGAL authalic/circle", "MeshLab harmonic", "MeshLab lscm"]
+                "CGAL conformal/circle", "CGAL authalic/circle", "MeshLab harmonic", "MeshLab lscm",
+                "Blender minimum stretch", "Blender angle based"]
     by = {(r["mesh"], r["method"]): r for r in rows}
     lines = ["| method | " + " | ".join(meshes) + " | folded maps |",
              "|---|" + "---|" * (len(meshes) + 1)]
