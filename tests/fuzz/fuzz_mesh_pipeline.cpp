@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "core/connectivity.h"
 #include "core/parameterize.h"
 #include "mesh_io.h"
 
@@ -44,6 +45,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   if (mesh.F.rows() > 4000 || mesh.V.rows() > 4000) return 0;  // keep executions fast
+  // The connectivity step reports any mesh: its counts must hang together.
+  const sdp::Connectivity c = sdp::analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
+  for (size_t h = 0; h < c.twin.size(); ++h)
+    if (c.twin[h] >= 0 && c.twin[c.twin[h]] != static_cast<int>(h)) finding("twin not mutual");
+  for (int component : c.component)
+    if (component < 0 || component >= c.components) finding("face outside the components");
+  if (c.boundary_loops > c.boundary_edges || c.faces != mesh.F.rows())
+    finding("inconsistent connectivity counts");
   try {
     const sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
     if (result.report.flipped_faces != 0) finding("returned a map reporting flipped faces");

@@ -1,0 +1,46 @@
+// The connectivity of any triangle mesh, reported, never refused: the first step of a run
+// (docs/method.md §1). A disk patch is one case (one component, one boundary loop, genus 0,
+// manifold and consistently oriented); closed models, higher genus, many pieces, non-manifold
+// edges and vertices and inconsistent orientation are described by the same counts, which an
+// atlas needs to cut the mesh into charts and the patch filter to explain a refusal.
+//
+// Numbering: faces and vertices as in F (input numbering). Half-edge h = 3 f + k runs from
+// corner k of face f to corner (k + 1) % 3.
+#pragma once
+
+#include <vector>
+
+#include "layout.h"
+
+namespace sdp {
+
+struct Connectivity {
+  int vertices = 0;  // referenced by some face
+  int faces = 0;
+  int edges = 0;  // distinct undirected edges
+  // Per half-edge: the half-edge of the other face across its edge when the edge has exactly
+  // two faces (running the opposite way when the two agree in orientation), else -1 (a boundary
+  // edge, or a non-manifold edge with three or more faces).
+  std::vector<int> twin;
+  std::vector<int> component;  // per face: its piece, faces joined across two-face edges
+  int components = 0;
+  int boundary_edges = 0;         // edges with one face
+  int boundary_loops = 0;         // connected chains of boundary edges
+  int non_manifold_edges = 0;     // edges with three or more faces
+  int non_manifold_vertices = 0;  // vertices whose faces form two or more fans
+  int inconsistent_edges = 0;     // two-face edges whose faces run the same way along them
+  int degenerate_faces = 0;       // a vertex repeated within the face
+  // Per component: Euler characteristic V - E + F and boundary loops; the genus follows as
+  // (2 - chi - loops) / 2 for a manifold, orientable component.
+  std::vector<int> euler_characteristic, component_loops;
+
+  // One component, one boundary loop, genus 0, no non-manifold element, consistently oriented.
+  bool isDisk() const;
+  // The genus of component c (meaningful when it is manifold and orientable).
+  int genus(int c) const { return (2 - euler_characteristic[c] - component_loops[c]) / 2; }
+};
+
+// `vertex_count` bounds the indices of F (each in [0, vertex_count)).
+Connectivity analyzeConnectivity(const Triangles& F, int vertex_count);
+
+}  // namespace sdp
