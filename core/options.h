@@ -1,6 +1,7 @@
 // What the user chooses: docs/method.md §2 (weights), §3 (boundary), §4 (refinement), §6 (names).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -19,17 +20,77 @@ enum class UVStorage {
   FloatAndSixDecimals,  // MeshLab: float in memory, "%f" (6 decimals) in its OBJ files
 };
 
-constexpr int kWeightSchemeCount = 5;
-constexpr int kBoundaryShapeCount = 3;
+// One table per choice the user makes, in enum order (checked below): the value, its command
+// line and report name, and the label every front end shows (MeshLab's dialog, .mlx and
+// pymeshlab values; docs/method.md §6). Names, labels, counts and parsing all come from these
+// rows: adding a choice is one row here and its case where the choice is used.
+template <class Enum>
+struct EnumRow {
+  Enum id;
+  const char* name;
+  const char* label;
+};
 
-// CLI / report names ("straightest", "ltd", ...), in docs/method.md §6 order.
-const char* weightSchemeName(WeightScheme w);
-const char* boundaryShapeName(BoundaryShape b);
-const char* sourceRuleName(SourceRule r);
+inline constexpr std::array<EnumRow<WeightScheme>, 5> kWeightSchemes = {{
+    {WeightScheme::Straightest, "straightest", "Straightest distances (cutting planes)"},
+    {WeightScheme::Ltd, "ltd", "LTD straightest geodesics"},
+    {WeightScheme::Floater, "floater", "Floater shape-preserving"},
+    {WeightScheme::MeanValue, "mean_value", "Mean value"},
+    {WeightScheme::Uniform, "uniform", "Uniform"},
+}};
+inline constexpr std::array<EnumRow<BoundaryShape>, 3> kBoundaryShapes = {{
+    {BoundaryShape::Measured, "measured", "Measured (straightest distances)"},
+    {BoundaryShape::Circle, "circle", "Circle"},
+    {BoundaryShape::Square, "square", "Square"},
+}};
+inline constexpr std::array<EnumRow<SourceRule>, 2> kSourceRules = {{
+    {SourceRule::FarthestFromBoundary, "farthest", "Farthest from the boundary"},
+    {SourceRule::NearestBoundaryCentroid, "centroid", "Nearest the boundary's centroid"},
+}};
+
+template <class Enum, size_t N>
+constexpr bool inEnumOrder(const std::array<EnumRow<Enum>, N>& table) {
+  for (size_t i = 0; i < N; ++i)
+    if (static_cast<size_t>(table[i].id) != i) return false;
+  return true;
+}
+static_assert(inEnumOrder(kWeightSchemes) && inEnumOrder(kBoundaryShapes) &&
+              inEnumOrder(kSourceRules));
+
+constexpr int kWeightSchemeCount = static_cast<int>(kWeightSchemes.size());
+constexpr int kBoundaryShapeCount = static_cast<int>(kBoundaryShapes.size());
+
+// The row's name of `id`, and the value whose name is `name`.
+template <class Enum, size_t N>
+const char* nameIn(const std::array<EnumRow<Enum>, N>& table, Enum id) {
+  return table[static_cast<size_t>(id)].name;
+}
+template <class Enum, size_t N>
+std::optional<Enum> parseIn(const std::array<EnumRow<Enum>, N>& table, const std::string& name) {
+  for (const EnumRow<Enum>& row : table)
+    if (name == row.name) return row.id;
+  return std::nullopt;
+}
+
+inline const char* weightSchemeName(WeightScheme w) {
+  return nameIn(kWeightSchemes, w);
+}
+inline const char* boundaryShapeName(BoundaryShape b) {
+  return nameIn(kBoundaryShapes, b);
+}
+inline const char* sourceRuleName(SourceRule r) {
+  return nameIn(kSourceRules, r);
+}
+inline std::optional<WeightScheme> parseWeightScheme(const std::string& name) {
+  return parseIn(kWeightSchemes, name);
+}
+inline std::optional<BoundaryShape> parseBoundaryShape(const std::string& name) {
+  return parseIn(kBoundaryShapes, name);
+}
+inline std::optional<SourceRule> parseSourceRule(const std::string& name) {
+  return parseIn(kSourceRules, name);
+}
 const char* uvStorageName(UVStorage storage);
-std::optional<WeightScheme> parseWeightScheme(const std::string& name);
-std::optional<BoundaryShape> parseBoundaryShape(const std::string& name);
-std::optional<SourceRule> parseSourceRule(const std::string& name);
 
 // Called with a stage name and a percentage (0..100) of the whole run; returning false cancels
 // the run (the core then throws ParameterizationError("cancelled by the user")).

@@ -30,38 +30,31 @@ using Clock = std::chrono::steady_clock;
 class StageClock {
  public:
   StageClock(Report& report, const Progress& progress) : report_(report), progress_(progress) {}
-  void begin(const char* stage, Stage progress_stage) {
-    progress_.report(progress_stage);
+  void begin(Stage stage) {
+    progress_.report(stage);
     stage_ = stage;
     start_ = Clock::now();
   }
   void end() { add(stage_, std::chrono::duration<double>(Clock::now() - start_).count()); }
-  void add(const std::string& stage, double seconds) {
-    if (double* total = find(stage))
-      *total += seconds;
-    else
-      report_.stage_seconds.emplace_back(stage, seconds);
-  }
+  void add(Stage stage, double seconds) { addTo(report_.stage_seconds, stage, seconds); }
   // Work (work.h) done in `stage`, added to the report's stage_work.
-  void addWork(const std::string& stage, double work) {
-    if (double* total = find(report_.stage_work, stage))
-      *total += work;
-    else
-      report_.stage_work.emplace_back(stage, work);
-  }
+  void addWork(Stage stage, double work) { addTo(report_.stage_work, stage, work); }
 
  private:
-  double* find(const std::string& stage) { return find(report_.stage_seconds, stage); }
-  static double* find(std::vector<std::pair<std::string, double>>& stages,
-                      const std::string& stage) {
+  static void addTo(std::vector<std::pair<std::string, double>>& stages, Stage stage,
+                    double amount) {
+    const char* key = stageRow(stage).key;
     for (auto& entry : stages)
-      if (entry.first == stage) return &entry.second;
-    return nullptr;
+      if (entry.first == key) {
+        entry.second += amount;
+        return;
+      }
+    stages.emplace_back(key, amount);
   }
 
   Report& report_;
   const Progress& progress_;
-  std::string stage_;
+  Stage stage_ = Stage::Topology;
   Clock::time_point start_;
 };
 
@@ -165,7 +158,7 @@ class Pipeline {
   }
 
   void topology(const Triangles& F) {
-    clock_.begin("topology", Stage::Topology);
+    clock_.begin(Stage::Topology);
     PatchOptions patch_options;
     patch_options.outer_vertex = options_.outer_boundary_vertex;
     patch_ = buildPatch(V_, F, patch_options);
@@ -173,7 +166,8 @@ class Pipeline {
     report().faces = patch_.real_face_count;
     report().holes_filled = patch_.holes_filled;
     report().unreferenced_vertices = static_cast<int>(V_.rows()) - patch_.real_vertex_count;
-    linearWork("topology", WorkCosts::kTopologyFace * (patch_.faceCount() + patch_.vertexCount()));
+    linearWork(Stage::Topology,
+               WorkCosts::kTopologyFace * (patch_.faceCount() + patch_.vertexCount()));
     shape_ = options_.boundary;
     source_ = userSource(patch_, static_cast<int>(V_.rows()), options_.source_vertex,
                          shape_ == BoundaryShape::Measured);
@@ -183,15 +177,15 @@ class Pipeline {
   // The boundary (source choice, walks) runs on this thread while the other cores start on the
   // weights, then joins them: the two do not depend on each other. Their stage times overlap.
   void weightsAndBoundary() {
-    clock_.begin("weights", Stage::Weights);
+    clock_.begin(Stage::Weights);
     weights_ = computeWeights(patch_, options_.weights, weight_counts_, [this] {
       const auto start = Clock::now();
       boundaryPolicy();
-      clock_.add("boundary", std::chrono::duration<double>(Clock::now() - start).count());
+      clock_.add(Stage::Boundary, std::chrono::duration<double>(Clock::now() - start).count());
     });
     clock_.end();
     // The boundary runs alongside the weights on another core: only the weights count.
-    linearWork("weights", weightsWork());
+    linearWork(Stage::Weights, weightsWork());
   }
 
   // Never returns a folded map: first the circle (strictly convex in exact arithmetic), then
@@ -202,7 +196,7 @@ class Pipeline {
     if (metrics_.flipped_faces > 0 && shape_ != BoundaryShape::Circle) {
       fallBackToCircle("the " + std::string(boundaryShapeName(shape_)) + " boundary gave " +
                        std::to_string(metrics_.flipped_faces) + " flipped or degenerate faces");
-      clock_.begin("boundary", Stage::Boundary);
+      clock_.begin(Stage::Boundary);
       boundary_ = circleBoundary(patch_);
       clock_.end();
       solveAndMeasure();
@@ -214,7 +208,7 @@ class Pipeline {
       ++report().boundary_fallbacks;
       WeightCounts ignored;
       weights_ = computeWeights(patch_, WeightScheme::Uniform, ignored);
-      linearWork("weights", weightsWork());
+      linearWork(Stage::Weights, weightsWork());
       solveAndMeasure();
     }
     if (metrics_.flipped_faces > 0)
@@ -235,7 +229,7 @@ class Pipeline {
       budget_work_ = std::max(options_.refine_min_work, options_.refine_work_factor * linear_work_);
     const RefineBudget reweighting = newBudget();
     reweight(reweighting);
-    clock_.addWork("refine", refine_meter_.spent);
+    clock_.addWork(Stage::Refine, refine_meter_.spent);
     noteStop(reweighting);
     report().l2_stretch_fixed_boundary = metrics_.l2;
     // Only the measured boundary is let go: it stands for the patch's own outline, which this
@@ -274,7 +268,7 @@ class Pipeline {
   // in the input's numbering, fitted, rounded, repaired where rounding would degenerate a face
   // and certified, all by the store step; the report then describes exactly those values.
   void store(const Triangles& F) {
-    clock_.begin("storage", Stage::Storage);
+    clock_.begin(Stage::Storage);
     UVs uv = UVs::Zero(V_.rows(), 2);
     for (int v = 0; v < patch_.real_vertex_count; ++v)
       uv.row(patch_.input_vertex[v]) = patch_.unit * uv_[v].transpose();
@@ -360,15 +354,15 @@ class Pipeline {
   // again tightly first: the fold may be the solver's, not the weights' or the boundary's.
   void solveAndMeasure() {
     do {
-      clock_.begin("solve", Stage::Solve);
+      clock_.begin(Stage::Solve);
       uv_ = solver_->solve(weights_, boundary_);
       clock_.end();
-      clock_.begin("metrics", Stage::Metrics);
+      clock_.begin(Stage::Metrics);
       metrics_ = stretchMetrics(patch_, uv_);
       clock_.end();
       solve_work_ += solver_->lastStats().work;
-      linearWork("solve", solver_->lastStats().work);
-      linearWork("metrics", metricsWork());
+      linearWork(Stage::Solve, solver_->lastStats().work);
+      linearWork(Stage::Metrics, metricsWork());
     } while (metrics_.flipped_faces > 0 && solver_->tighten());
   }
 
@@ -393,7 +387,7 @@ class Pipeline {
            (walks ? 1.0 : 0.25);
   }
   double metricsWork() const { return WorkCosts::kMetricsFace * patch_.real_face_count; }
-  void linearWork(const char* stage, double work) {
+  void linearWork(Stage stage, double work) {
     linear_work_ += work;
     clock_.addWork(stage, work);
   }
@@ -418,7 +412,7 @@ class Pipeline {
     if (std::isfinite(budget_work_) && budget_work_ < kFewRefinementSteps * step_work)
       eta = std::max(eta, kFastStretchExponent);
 
-    clock_.begin("refine", Stage::Refine);
+    clock_.begin(Stage::Refine);
     std::vector<double> refined = weights_;
     StretchMetrics current = metrics_;
     const int steps = options_.stretch_iterations;
@@ -454,7 +448,7 @@ class Pipeline {
   // folds.
   void freeBoundary(const RefineBudget& reweighting) {
     progress_.report(Stage::FreeBoundary);
-    clock_.begin("free_boundary", Stage::FreeBoundary);
+    clock_.begin(Stage::FreeBoundary);
     FreeBoundaryCounts counts;
     const RefineBudget arap = newBudget();
     // The first ARAP step with its setup costs about three reweighting solves (2.5x measured
@@ -465,9 +459,9 @@ class Pipeline {
     uv_ = relaxWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_, counts,
                                 progress_, arap);
     noteStop(arap);
-    clock_.addWork("free_boundary", refine_meter_.spent - spent);
+    clock_.addWork(Stage::FreeBoundary, refine_meter_.spent - spent);
     clock_.end();
-    clock_.begin("newton", Stage::Newton);
+    clock_.begin(Stage::Newton);
     spent = refine_meter_.spent;
     StretchNewtonCounts newton;
     const RefineBudget newton_budget = newBudget();
@@ -480,7 +474,7 @@ class Pipeline {
     uv_ = minimizeStretchWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_,
                                           newton, progress_, newton_budget);
     noteStop(newton_budget);
-    clock_.addWork("newton", refine_meter_.spent - spent);
+    clock_.addWork(Stage::Newton, refine_meter_.spent - spent);
     report().free_boundary_steps = counts.steps_taken + newton.steps_taken;
     clock_.end();
   }

@@ -81,11 +81,10 @@ ParameterDescription stringRow(std::string name, std::string label, std::string 
 }
 
 // Choices named as the core names them, labelled as MeshLab shows them.
-template <class Enum>
-std::vector<Choice> choicesOf(const char* (*core_name)(Enum), std::vector<std::string> labels) {
+template <class Enum, size_t N>
+std::vector<Choice> choicesOf(const std::array<sdp::EnumRow<Enum>, N>& table) {
   std::vector<Choice> choices;
-  for (size_t i = 0; i < labels.size(); ++i)
-    choices.push_back({core_name(static_cast<Enum>(i)), labels[i]});
+  for (const sdp::EnumRow<Enum>& row : table) choices.push_back({row.name, row.label});
   return choices;
 }
 
@@ -98,17 +97,12 @@ const std::vector<ParameterDescription>& parameters() {
               "(the paper's cutting planes) usually stretches least; LTD and Floater are the "
               "classic shape-preserving maps; Mean value is smooth; Uniform ignores geometry "
               "(most robust, most stretch).",
-              choicesOf(sdp::weightSchemeName,
-                        {"Straightest distances (cutting planes)", "LTD straightest geodesics",
-                         "Floater shape-preserving", "Mean value", "Uniform"}),
-              &FilterValues::weights),
+              choicesOf(sdp::kWeightSchemes), &FilterValues::weights),
       enumRow("boundary", "--boundary", "B", "Boundary shape",
               "Where the boundary goes. Measured follows the patch's own outline (straightest "
               "distances from a source vertex) and lowers stretch near the border; Circle and "
               "Square fix it to a shape (Square suits geometry images).",
-              choicesOf(sdp::boundaryShapeName,
-                        {"Measured (straightest distances)", "Circle", "Square"}),
-              &FilterValues::boundary),
+              choicesOf(sdp::kBoundaryShapes), &FilterValues::boundary),
       intRow("sourcevertex", "--source", "N", "Source vertex",
              "Centre of the measured boundary (an interior vertex): -1 picks one automatically; "
              "otherwise a vertex index. In MeshLab a single selected vertex overrides this.",
@@ -116,9 +110,7 @@ const std::vector<ParameterDescription>& parameters() {
       enumRow("", "--source-rule", "R", "Automatic source vertex",
               "How the automatic source vertex is picked: the interior vertex farthest from the "
               "boundary along edges, or the one nearest the centroid of the boundary vertices.",
-              choicesOf(sdp::sourceRuleName,
-                        {"Farthest from the boundary", "Nearest the boundary's centroid"}),
-              &FilterValues::source_rule),
+              choicesOf(sdp::kSourceRules), &FilterValues::source_rule),
       intRow("stretchiterations", "--stretch-iterations", "K", "Stretch iterations",
              "Most refinement steps per stage; 0 gives the paper's linear map. Refinement "
              "re-solves with weights that pull less towards stretched areas, then (Measured "
