@@ -120,24 +120,45 @@ UVMeasures measureUVsChecked(const Positions& V, const Triangles& F, const UVs& 
 }  // namespace
 
 namespace {
-Result parameterizeChecked(const Positions& V, const Triangles& F, const Options& options);
+Result flattenDiskChecked(const Positions& V, const Triangles& F, const Options& options);
+void storeChecked(const Positions& V, const Triangles& F, const StoragePolicy& policy,
+                  const Progress& progress, Result& result);
+
+// One error type for every failure, so front ends print one line and never abort.
+[[noreturn]] void outOfMemory(const char* what, const Positions& V, const Triangles& F) {
+  throw ParameterizationError(std::string("not enough memory to ") + what + " a mesh of " +
+                              std::to_string(V.rows()) + " vertices and " +
+                              std::to_string(F.rows()) + " faces");
+}
 }  // namespace
 
-Result parameterize(const Positions& V, const Triangles& F, const Options& options) {
-  // Every failure leaves as the one error type, so front ends print one line and never abort.
+Result flattenDisk(const Positions& V, const Triangles& F, const Options& options) {
   try {
-    return parameterizeChecked(V, F, options);
+    return flattenDiskChecked(V, F, options);
   } catch (const std::bad_alloc&) {
-    throw ParameterizationError("not enough memory to parameterize a mesh of " +
-                                std::to_string(V.rows()) + " vertices and " +
-                                std::to_string(F.rows()) + " faces");
+    outOfMemory("parameterize", V, F);
   }
+}
+
+Result parameterize(const Positions& V, const Triangles& F, const Options& options) {
+  Result result = flattenDisk(V, F, options);
+  StoragePolicy policy;
+  policy.fit_unit_square = options.fit_unit_square;
+  policy.precision = options.storage;
+  const Progress progress(options.progress);
+  try {
+    storeChecked(V, F, policy, progress, result);
+  } catch (const std::bad_alloc&) {
+    outOfMemory("store", V, F);
+  }
+  progress.done();
+  return result;
 }
 
 namespace {
 
-// The pipeline (docs/method.md), one run of it: each stage is a member function, called in
-// this order by parameterizeChecked():
+// The disk pipeline (docs/method.md), one run of it: each stage is a member function, called in
+// this order by flattenDiskChecked():
 //   topology            the patch, its holes, the user's source vertex
 //   weightsAndBoundary  the interior weights (§2) and, alongside, the boundary (§3) under the
 //                       boundary policy, which owns its fallback rules
@@ -146,7 +167,9 @@ namespace {
 //   refine              reweighting, then with the measured boundary ARAP and Newton steps, all
 //                       under one work budget (§4, work.h)
 //   countFallbacks      the report's counts and warnings
-//   store               the frame and precision of the front end, repaired and measured (§5)
+//   finish              the layout at natural scale, measured
+// parameterize() then runs the store step (storeChecked, §5): the front end's frame and
+// precision, repaired and certified, measured as stored.
 class Pipeline {
  public:
   Pipeline(const Positions& V, const Options& options)
@@ -264,42 +287,19 @@ class Pipeline {
                            "or wandered)");
   }
 
-  // The map as the front end stores it (storage.h): the layout at its natural scale (3D units)
-  // in the input's numbering, fitted, rounded, repaired where rounding would degenerate a face
-  // and certified, all by the store step; the report then describes exactly those values.
-  void store(const Triangles& F) {
-    clock_.begin(Stage::Storage);
+  // The map at its natural scale (3D units), in double, as a layout in the input's numbering
+  // (one texture coordinate per vertex), measured: flattenDisk()'s result.
+  Result finish(const Triangles& F) {
     UVs uv = UVs::Zero(V_.rows(), 2);
     for (int v = 0; v < patch_.real_vertex_count; ++v)
       uv.row(patch_.input_vertex[v]) = patch_.unit * uv_[v].transpose();
     result_.layout = Layout::perVertex(std::move(uv), F);
-    StoragePolicy policy;
-    policy.fit_unit_square = options_.fit_unit_square;
-    policy.precision = options_.storage;
-    const StorageCounts storage = sdp::store(result_.layout, policy);
-    metrics_ = layoutStretch(V_, F, result_.layout);
     Report& r = report();
-    r.storage = uvStorageName(options_.storage);
-    r.storage_degenerate_faces = storage.degenerate_faces;
-    r.storage_moved_vertices = storage.moved_vertices;
-    // Repaired, so not a warning: the stored map is one-to-one.
-    if (storage.degenerate_faces > 0)
-      r.notes.push_back("stored one-to-one: " + std::to_string(storage.degenerate_faces) +
-                        " faces would have collapsed when rounded to " + r.storage +
-                        " texture coordinates; " + std::to_string(storage.moved_vertices) +
-                        " vertices moved");
-    clock_.end();
     r.l2_stretch = metrics_.l2;
     r.linf_stretch = metrics_.linf;
     r.flipped_faces = metrics_.flipped_faces;
-    if (r.flipped_faces > 0)
-      throw ParameterizationError("internal error: the stored map has flipped faces");
-  }
-
-  Result finish() {
     result_.face_stretch = std::move(metrics_.face_l2);
-    report().seconds = std::chrono::duration<double>(Clock::now() - run_start_).count();
-    progress_.done();
+    r.seconds = std::chrono::duration<double>(Clock::now() - run_start_).count();
     return std::move(result_);
   }
 
@@ -503,15 +503,43 @@ class Pipeline {
   RefineStop stop_ = RefineStop::Iterations;
 };
 
-Result parameterizeChecked(const Positions& V, const Triangles& F, const Options& options) {
+Result flattenDiskChecked(const Positions& V, const Triangles& F, const Options& options) {
   Pipeline run(V, options);
   run.topology(F);
   run.weightsAndBoundary();
   run.solveOneToOne();
   run.refine();
   run.countFallbacks();
-  run.store(F);
-  return run.finish();
+  return run.finish(F);
+}
+
+// The store step on a flattened result (storage.h), timed and reported as the "storage" stage:
+// the report then describes exactly the stored values.
+void storeChecked(const Positions& V, const Triangles& F, const StoragePolicy& policy,
+                  const Progress& progress, Result& result) {
+  const auto start = Clock::now();
+  progress.report(Stage::Storage);
+  const StorageCounts storage = store(result.layout, policy);
+  StretchMetrics stored = layoutStretch(V, F, result.layout);
+  Report& r = result.report;
+  r.storage = uvStorageName(policy.precision);
+  r.storage_degenerate_faces = storage.degenerate_faces;
+  r.storage_moved_vertices = storage.moved_vertices;
+  // Repaired, so not a warning: the stored map is one-to-one.
+  if (storage.degenerate_faces > 0)
+    r.notes.push_back("stored one-to-one: " + std::to_string(storage.degenerate_faces) +
+                      " faces would have collapsed when rounded to " + r.storage +
+                      " texture coordinates; " + std::to_string(storage.moved_vertices) +
+                      " vertices moved");
+  r.l2_stretch = stored.l2;
+  r.linf_stretch = stored.linf;
+  r.flipped_faces = stored.flipped_faces;
+  if (r.flipped_faces > 0)
+    throw ParameterizationError("internal error: the stored map has flipped faces");
+  result.face_stretch = std::move(stored.face_l2);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  r.stage_seconds.emplace_back(stageRow(Stage::Storage).key, seconds);
+  r.seconds += seconds;
 }
 
 }  // namespace

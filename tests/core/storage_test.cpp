@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "core/parameterize.h"
+#include "core/storage.h"
 #include "test_meshes.h"
 
 namespace sdp {
@@ -153,6 +154,48 @@ TEST(Refinement, ZeroMinGainRunsEveryIteration) {
   const Result r = parameterize(m.V, m.F, o);
   EXPECT_EQ(r.report.stretch_iterations_run, 4);
   EXPECT_EQ(r.report.refinement_stop, "iterations");
+}
+
+}  // namespace
+}  // namespace sdp
+
+namespace sdp {
+namespace {
+
+// parameterize() is flattenDisk() followed by the store step: the same bytes either way, and
+// flattenDisk's layout is at the mesh's own scale (3D units) until it is stored.
+TEST(StoreStep, ParameterizeIsFlattenDiskThenStore) {
+  const test::Mesh m = test::grid(20, 3, 2, [](double x, double y) { return 0.4 * x * y; });
+  Options o = productDefaults();
+  o.fit_unit_square = true;
+  o.storage = UVStorage::FloatAndSixDecimals;
+  const Result stored = parameterize(m.V, m.F, o);
+  Result flat = flattenDisk(m.V, m.F, o);
+  const double extent =
+      (flat.layout.uv.colwise().maxCoeff() - flat.layout.uv.colwise().minCoeff()).maxCoeff();
+  EXPECT_GT(extent, 2.0) << "not at the mesh's scale (3 x 2 units)";
+  StoragePolicy policy;
+  policy.fit_unit_square = true;
+  policy.precision = UVStorage::FloatAndSixDecimals;
+  store(flat.layout, policy);
+  EXPECT_TRUE(flat.layout.uv == stored.layout.uv);
+  EXPECT_TRUE(flat.layout.face_uv == stored.layout.face_uv);
+  EXPECT_NEAR(stored.layout.uv.maxCoeff(), 1.0, 1e-6);
+}
+
+// The store step certifies per chart: a layout of two charts, the second mirrored, is stored
+// (each chart is one-to-one on its own), while a face folded inside a chart is refused.
+TEST(StoreStep, CertifiesEachChartOnItsOwn) {
+  Layout layout;
+  layout.uv.resize(6, 2);
+  layout.uv << 0, 0, 1, 0, 0, 1, 3, 0, 2, 0, 3, 1;  // chart 1 runs clockwise
+  layout.face_uv.resize(2, 3);
+  layout.face_uv << 0, 1, 2, 3, 4, 5;
+  layout.chart = {0, 1};
+  Layout two = layout;
+  EXPECT_NO_THROW(store(two, StoragePolicy{}));
+  layout.chart = {0, 0};  // one chart: the second face is flipped against the first
+  EXPECT_THROW(store(layout, StoragePolicy{}), ParameterizationError);
 }
 
 }  // namespace
