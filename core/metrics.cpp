@@ -32,10 +32,39 @@ FaceStretch faceStretch(const Eigen::Vector3d q[3], const Eigen::Vector2d p[3]) 
   return r;
 }
 
+namespace {
+
+// The whole map's measures from its faces' stretch: a face is flipped by its chart's rule
+// (chart_area[chart_of(f)] is that chart's signed UV area), and L2 and L-infinity are normalized
+// once by sqrt(sum of |chart areas| / 3D area).
+template <class ChartOf>
+void summarize(const std::vector<FaceStretch>& stretch, const std::vector<double>& chart_area,
+               double area3d, ChartOf&& chart_of, StretchMetrics& m) {
+  std::vector<FlipRule> rule;
+  double area2d = 0, weighted = 0, worst = 0;
+  for (double total : chart_area) {
+    rule.emplace_back(total);
+    area2d += std::abs(total);
+  }
+  const int faces = static_cast<int>(stretch.size());
+  for (int f = 0; f < faces; ++f) {
+    if (rule[chart_of(f)].flipped(stretch[f].area2d)) ++m.flipped_faces;
+    weighted += stretch[f].l2 * stretch[f].l2 * stretch[f].area3d;
+    worst = std::max(worst, stretch[f].linf);
+  }
+  // Stretch scales with 1/size of the UV layout; this factor makes 1.0 the isometric optimum.
+  const double normalize = std::sqrt(area2d / area3d);
+  m.l2 = std::sqrt(weighted / area3d) * normalize;
+  m.linf = worst * normalize;
+  m.face_l2.resize(faces);
+  for (int f = 0; f < faces; ++f) m.face_l2[f] = stretch[f].l2 * normalize;
+}
+
+}  // namespace
+
 StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
   const int faces = patch.real_face_count;  // virtual hole fills do not count
   StretchMetrics m;
-  m.face_l2.resize(faces);
   std::vector<FaceStretch> stretch(faces);
   // Fixed ranges of about 16k faces, their area sums added in order: the same total whatever
   // the number of cores (parallel.h).
@@ -53,19 +82,10 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
     }
     area_sums[slot] = sums;
   });
-  double area2d = 0, area3d = 0, weighted = 0, worst = 0;
+  double area2d = 0, area3d = 0;
   for (const Eigen::Vector2d& sums : area_sums) area2d += sums.x(), area3d += sums.y();
-  const FlipRule rule(area2d);
-  for (int f = 0; f < faces; ++f) {
-    if (rule.flipped(stretch[f].area2d)) ++m.flipped_faces;
-    weighted += stretch[f].l2 * stretch[f].l2 * stretch[f].area3d;
-    worst = std::max(worst, stretch[f].linf);
-  }
-  // Stretch scales with 1/size of the UV layout; this factor makes 1.0 the isometric optimum.
-  const double normalize = std::sqrt(std::abs(area2d) / area3d);
-  m.l2 = std::sqrt(weighted / area3d) * normalize;
-  m.linf = worst * normalize;
-  for (int f = 0; f < faces; ++f) m.face_l2[f] = stretch[f].l2 * normalize;
+  summarize(
+      stretch, {area2d}, area3d, [](int) { return 0; }, m);
 
   std::vector<double> vertex_sum(patch.vertexCount(), 0.0), vertex_area(patch.vertexCount(), 0.0);
   for (int f = 0; f < faces; ++f)
@@ -82,10 +102,10 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
 StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layout& layout) {
   const int faces = static_cast<int>(F.rows());
   StretchMetrics m;
-  m.face_l2.resize(faces);
   std::vector<FaceStretch> stretch(faces);
   std::vector<double> chart_area;
-  double area2d = 0, area3d = 0, weighted = 0, worst = 0;
+  double area3d = 0;
+  auto chartOf = [&](int f) { return layout.chart.empty() ? 0 : layout.chart[f]; };
   // Both frames centred and scaled to unit size first (the normalized stretch does not change):
   // a mesh at 1e-90 or 1e90 would otherwise underflow or overflow in the squared lengths.
   Eigen::RowVector3d low3 = Eigen::RowVector3d::Constant(std::numeric_limits<double>::max());
@@ -111,26 +131,12 @@ StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layou
       p[k] = ((layout.corner(f, k) - centre2) / size2).transpose();
     }
     stretch[f] = faceStretch(q, p);
-    const int c = layout.chart.empty() ? 0 : layout.chart[f];
+    const int c = chartOf(f);
     if (c >= static_cast<int>(chart_area.size())) chart_area.resize(c + 1, 0.0);
     chart_area[c] += stretch[f].area2d;
     area3d += stretch[f].area3d;
   }
-  std::vector<FlipRule> rule;
-  for (double total : chart_area) {
-    rule.emplace_back(total);
-    area2d += std::abs(total);
-  }
-  for (int f = 0; f < faces; ++f) {
-    if (rule[layout.chart.empty() ? 0 : layout.chart[f]].flipped(stretch[f].area2d))
-      ++m.flipped_faces;
-    weighted += stretch[f].l2 * stretch[f].l2 * stretch[f].area3d;
-    worst = std::max(worst, stretch[f].linf);
-  }
-  const double normalize = std::sqrt(area2d / area3d);
-  m.l2 = std::sqrt(weighted / area3d) * normalize;
-  m.linf = worst * normalize;
-  for (int f = 0; f < faces; ++f) m.face_l2[f] = stretch[f].l2 * normalize;
+  summarize(stretch, chart_area, area3d, chartOf, m);
   return m;
 }
 

@@ -306,23 +306,8 @@ BlockCsr CoupledMultigrid::numberBlocks(const Eigen::SparseMatrix<double>& proxy
 }
 
 void CoupledMultigrid::applyCycle(const double* r, double* z) const {
-  const std::vector<int>& order = scalar_.order();
-  const std::vector<double>& root = scalar_.rootDiagonal();
-  const int n = static_cast<int>(order.size());
-  in_.resize(2 * static_cast<size_t>(n));
-  out_.resize(2 * static_cast<size_t>(n));
-  for (int p = 0; p < n; ++p) {
-    const int i = order[p];
-    in_[2 * p] = r[2 * i] / root[i];
-    in_[2 * p + 1] = r[2 * i + 1] / root[i];
-  }
-  blocks_.cycle(in_.data(), out_.data());
-  for (int p = 0; p < n; ++p) {
-    const int i = order[p];
-    z[2 * i] = out_[2 * p] / root[i];
-    z[2 * i + 1] = out_[2 * p + 1] / root[i];
-  }
-  spent_work_ += blocks_.cycleWork() + 4.0 * n * WorkCosts::kVectorEntry;
+  scalar_.applyScaled(r, z, [&](const double* in, double* out) { blocks_.cycle(in, out); });
+  spent_work_ += blocks_.cycleWork();
 }
 
 }  // namespace sdp

@@ -107,23 +107,10 @@ bool LaplacianMultigrid::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, d
 }
 
 void LaplacianMultigrid::applyCycle(const double* r, double* z) const {
-  const int n = static_cast<int>(order_.size());
   if (static_cast<int>(work_.x.size()) != multigrid_.levelCount())
     work_ = multigrid_.makeWorkspace(2);
-  in_.resize(2 * static_cast<size_t>(n));
-  out_.resize(2 * static_cast<size_t>(n));
-  for (int p = 0; p < n; ++p) {
-    const int i = order_[p];
-    in_[2 * p] = r[2 * i] / root_diagonal_[i];
-    in_[2 * p + 1] = r[2 * i + 1] / root_diagonal_[i];
-  }
-  multigrid_.cycle<2>(in_.data(), out_.data(), work_);
-  spent_work_ += multigrid_.cycleWork() + 4.0 * n * WorkCosts::kVectorEntry;
-  for (int p = 0; p < n; ++p) {
-    const int i = order_[p];
-    z[2 * i] = out_[2 * p] / root_diagonal_[i];
-    z[2 * i + 1] = out_[2 * p + 1] / root_diagonal_[i];
-  }
+  applyScaled(r, z, [&](const double* in, double* out) { multigrid_.cycle<2>(in, out, work_); });
+  spent_work_ += multigrid_.cycleWork();
 }
 
 }  // namespace sdp

@@ -12,6 +12,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "core/work.h"
 #include "multigrid.h"
 
 namespace sdp {
@@ -40,6 +41,28 @@ class LaplacianMultigrid {
   const std::vector<double>& rootDiagonal() const { return root_diagonal_; }
   // Work (work.h) of all the calls so far: setup, iterations, cycles.
   double spentWork() const { return spent_work_; }
+
+  // z = S^-1 y with y = apply(S^-1 r) taken in the hierarchy's numbering: r and z in L's, two
+  // columns interleaved per row; apply(in, out) sees breadth-first rows of the scaled matrix.
+  // Counts the two passes' work; apply counts its own.
+  template <class Apply>
+  void applyScaled(const double* r, double* z, Apply&& apply) const {
+    const int n = static_cast<int>(order_.size());
+    in_.resize(2 * static_cast<size_t>(n));
+    out_.resize(2 * static_cast<size_t>(n));
+    for (int p = 0; p < n; ++p) {
+      const int i = order_[p];
+      in_[2 * p] = r[2 * i] / root_diagonal_[i];
+      in_[2 * p + 1] = r[2 * i + 1] / root_diagonal_[i];
+    }
+    apply(static_cast<const double*>(in_.data()), out_.data());
+    for (int p = 0; p < n; ++p) {
+      const int i = order_[p];
+      z[2 * i] = out_[2 * p] / root_diagonal_[i];
+      z[2 * i + 1] = out_[2 * p + 1] / root_diagonal_[i];
+    }
+    spent_work_ += 4.0 * n * WorkCosts::kVectorEntry;
+  }
 
  private:
   void orderBreadthFirst(const Eigen::SparseMatrix<double>& L);  // sets order_
