@@ -32,8 +32,6 @@ struct Layout {
   }
   int faceCount() const { return static_cast<int>(face_uv.rows()); }
   Eigen::RowVector2d corner(int f, int k) const { return uv.row(face_uv(f, k)); }
-  // True when every corner of a vertex of F carries the same row, the vertex's own (no seam).
-  bool isPerVertex(const Triangles& F) const { return face_uv == F; }
 };
 
 }  // namespace sdp

@@ -23,14 +23,13 @@ struct WorkCosts {
   // nonzero of the whole hierarchy; a rebuild on the same aggregates skips about a quarter.
   static constexpr double kSetupNonzero = 40.0;
   static constexpr double kRebuildNonzero = 30.0;
-  // Per face: stretchMetrics, a flip count, the ARAP local step, the Newton energy, the Newton
-  // per-face Hessian (update) and one Hessian-vector product.
+  // Per face: stretchMetrics, a flip count, the ARAP local step, the Newton energy and the
+  // Newton per-face Hessian (update).
   static constexpr double kMetricsFace = 60.0;
   static constexpr double kFlipCheckFace = 8.0;
   static constexpr double kArapLocalFace = 60.0;
   static constexpr double kEnergyFace = 25.0;
   static constexpr double kNewtonHessianFace = 80.0;
-  static constexpr double kHessianVectorFace = 30.0;
   // Per face or vertex of the patch for the stages before the solve (topology and frames).
   static constexpr double kTopologyFace = 120.0;
   // Per ring entry: the weights of one neighbour (straightest weights walk two planes).

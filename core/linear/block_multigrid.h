@@ -45,7 +45,6 @@ class BlockMultigrid {
   bool rebuild();
   // x = one cycle applied to b (from a zero start).
   void cycle(const double* b, double* x) const;
-  bool empty() const { return levels_.empty(); }
   int levelCount() const { return static_cast<int>(levels_.size()); }
   // Work (work.h) of one cycle and of build().
   double cycleWork() const;
@@ -87,9 +86,8 @@ class CoupledMultigrid {
 
   LaplacianMultigrid scalar_;
   BlockMultigrid blocks_;
-  std::vector<int> slot_entry_;     // per nonzero of the stand-in: its entry in pattern_
+  std::vector<int> slot_entry_;     // per nonzero of the stand-in: its entry in the fine level
   std::vector<double> slot_scale_;  // ... and its diagonal scaling
-  mutable std::vector<double> in_, out_;
   mutable double spent_work_ = 0;
 };
 
