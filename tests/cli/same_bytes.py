@@ -13,6 +13,7 @@ which the work budget, not convergence, ends the refinement: asserted unless --a
 the budget's determinism is what is tested. bench/determinism.py runs it on the shared meshes.
 """
 import argparse
+import contextlib
 import json
 import math
 import multiprocessing
@@ -35,6 +36,26 @@ def busy():
         pass
 
 
+@contextlib.contextmanager
+def cpu_hog():
+    """A busy process on every core while the block runs."""
+    hogs = [multiprocessing.Process(target=busy, daemon=True) for _ in range(os.cpu_count() or 2)]
+    for h in hogs:
+        h.start()
+    try:
+        yield
+    finally:
+        for h in hogs:
+            h.terminate()
+            h.join()
+
+
+def bumpy_patch(path):
+    """The 58k-vertex bumpy height field whose refinement the work budget ends."""
+    return meshgen.write_off(path, meshgen.grid(
+        240, height=lambda x, y: 0.15 * math.sin(9 * x) * math.sin(7 * y) + 0.3 * x * x))
+
+
 def run(exe, mesh, folder, prefix=()):
     folder.mkdir(parents=True)
     reports = []
@@ -52,14 +73,8 @@ def run(exe, mesh, folder, prefix=()):
 def three_runs(exe, mesh, workdir):
     """{run name: (files, reports)} for the quiet, loaded and one-core runs."""
     results = {"quiet": run(exe, mesh, workdir / "quiet")}
-    hogs = [multiprocessing.Process(target=busy, daemon=True) for _ in range(os.cpu_count() or 2)]
-    for h in hogs:
-        h.start()
-    try:
+    with cpu_hog():
         results["beside a CPU hog"] = run(exe, mesh, workdir / "hog")
-    finally:
-        for h in hogs:
-            h.terminate()
     results["one core"] = run(exe, mesh, workdir / "one_core", prefix=["taskset", "-c", "0"])
     return results
 
@@ -91,8 +106,7 @@ def main():
     shutil.rmtree(args.workdir, ignore_errors=True)
     if not args.mesh:
         args.workdir.mkdir(parents=True)
-        args.mesh = meshgen.write_off(args.workdir / "bumps.off", meshgen.grid(
-            240, height=lambda x, y: 0.15 * math.sin(9 * x) * math.sin(7 * y) + 0.3 * x * x))
+        args.mesh = bumpy_patch(args.workdir / "bumps.off")
 
     results = three_runs(args.exe, args.mesh, args.workdir)
     quiet_files, quiet_reports = results["quiet"]

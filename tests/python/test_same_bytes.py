@@ -3,9 +3,6 @@ processes (quiet, beside a CPU hog, on one core) run it with its defaults on a g
 bumpy patch, where the work budget ends the refinement, and save PLY and OBJ with wedge UVs;
 the files must be identical byte for byte (tests/cli/same_bytes.py does the same for the CLI)."""
 import json
-import math
-import multiprocessing
-import os
 import subprocess
 import sys
 
@@ -13,8 +10,8 @@ import pytest
 
 from conftest import FILTER, PLUGIN, REPO
 
-sys.path.insert(0, str(REPO / "tests" / "robustness"))
-import meshgen  # noqa: E402
+sys.path.insert(0, str(REPO / "tests" / "cli"))
+from same_bytes import bumpy_patch, cpu_hog  # noqa: E402
 
 CHILD = """
 import json, sys
@@ -31,11 +28,6 @@ print(json.dumps({k: report[k] for k in ("l2_stretch", "flipped_faces")}))
 """
 
 
-def busy():
-    while True:
-        pass
-
-
 def run(mesh, folder, prefix=()):
     folder.mkdir()
     done = subprocess.run([*prefix, sys.executable, "-c", CHILD, str(PLUGIN), str(mesh),
@@ -49,17 +41,10 @@ def run(mesh, folder, prefix=()):
 def test_default_map_is_the_same_bytes_quiet_loaded_and_on_one_core(tmp_path):
     if not PLUGIN.exists():
         pytest.skip(f"plugin {PLUGIN} not built")
-    mesh = meshgen.write_off(tmp_path / "bumps.off", meshgen.grid(
-        240, height=lambda x, y: 0.15 * math.sin(9 * x) * math.sin(7 * y) + 0.3 * x * x))
+    mesh = bumpy_patch(tmp_path / "bumps.off")
     quiet = run(mesh, tmp_path / "quiet")
-    hogs = [multiprocessing.Process(target=busy, daemon=True) for _ in range(os.cpu_count() or 2)]
-    for h in hogs:
-        h.start()
-    try:
+    with cpu_hog():
         loaded = run(mesh, tmp_path / "hog")
-    finally:
-        for h in hogs:
-            h.terminate()
     one_core = run(mesh, tmp_path / "one_core", prefix=["taskset", "-c", "0"])
     assert {"map.ply", "map.obj"} <= quiet.keys()
     for name, files in (("beside a CPU hog", loaded), ("on one core", one_core)):
