@@ -1,4 +1,5 @@
-// straightest_param: flattens a disk-shaped mesh patch from the command line (docs/method.md §6).
+// straightest_param: flattens a disk-shaped mesh patch, or makes an atlas of any mesh (--atlas),
+// from the command line (docs/method.md §6, §7).
 //
 // Contract with scripts: exit 0 and the report JSON on stdout on success; otherwise exactly one
 // line "straightest_param: <reason>" on stderr, exit 2 for usage errors and 1 for everything
@@ -61,18 +62,10 @@ std::string optionHelp(const std::string& option, const std::string& help) {
   return head + wrapped(help, kColumn, 100);
 }
 
-std::string usage() {
+std::string optionRows(const std::vector<sdp::filter::ParameterDescription>& rows) {
   using sdp::filter::ParameterType;
-  std::string text = R"(usage: straightest_param IN OUT [options]
-
-Flattens a disk-shaped triangle patch to the plane by straightest distances.
-IN is a .off, .obj or .ply mesh (polygons are fan-triangulated). OUT ending in .obj gets
-OBJ + MTL + a checkerboard PNG <stem>_checker.png next to it; .ply gets a binary PLY.
-Both carry per-wedge texture coordinates. The report (JSON) is printed to stdout.
-
-options:
-)";
-  for (const auto& p : sdp::filter::parameters()) {
+  std::string text;
+  for (const auto& p : rows) {
     if (!p.inCli()) continue;
     std::string values;
     if (p.type == ParameterType::Enum) {
@@ -86,6 +79,29 @@ options:
     text +=
         optionHelp(p.cli_flag + (p.cli_value.empty() ? "" : " " + p.cli_value), values + p.help);
   }
+  return text;
+}
+
+std::string usage() {
+  std::string text = R"(usage: straightest_param IN OUT [options]
+
+Flattens a disk-shaped triangle patch to the plane by straightest distances.
+IN is a .off, .obj or .ply mesh (polygons are fan-triangulated). OUT ending in .obj gets
+OBJ + MTL + a checkerboard PNG <stem>_checker.png next to it; .ply gets a binary PLY.
+Both carry per-wedge texture coordinates. The report (JSON) is printed to stdout.
+
+With --atlas, IN may be any triangle mesh (closed, any genus, many pieces): it is cut into
+charts, each flattened by straightest distances, packed into one texture with a gutter.
+
+options:
+)";
+  text += optionRows(sdp::filter::parameters());
+  text += optionHelp("--atlas",
+                     "Make an atlas of charts (any mesh) instead of one patch; the "
+                     "options below then apply.");
+  text += "\natlas options (with --atlas):\n";
+  text += optionRows(sdp::filter::atlasParameters());
+  text += "\n";
   text += optionHelp("--report FILE.json", "Also write the report to FILE.json.");
   text += optionHelp("--quiet", "Do not print the report.");
   text += optionHelp("--help", "Show this help.");
@@ -107,6 +123,7 @@ struct Arguments {
   std::string report_path;  // empty: no report file
   sdp::filter::FilterValues values = sdp::filter::defaultValues();
   bool quiet = false;
+  bool atlas = false;  // --atlas: the atlas filter's table and pipeline
 };
 
 std::string lowercaseExtension(const std::string& path) {
@@ -144,8 +161,8 @@ void setParameter(const sdp::filter::ParameterDescription& p, const std::string&
   values.*p.int_field = parsed;
 }
 
-const sdp::filter::ParameterDescription* cliParameter(const std::string& flag) {
-  for (const auto& p : sdp::filter::parameters())
+const sdp::filter::ParameterDescription* cliParameter(const std::string& flag, bool atlas) {
+  for (const auto& p : atlas ? sdp::filter::atlasParameters() : sdp::filter::parameters())
     if (p.inCli() && p.cli_flag == flag) return &p;
   return nullptr;
 }
@@ -159,7 +176,9 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
     if (arg == "--") break;
     if (arg == "--help" || arg == "-h") return Action::Help;
     if (arg == "--version") return Action::Version;
+    if (arg == "--atlas") args.atlas = true;
   }
+  if (args.atlas) args.values = sdp::filter::atlasDefaultValues();
   bool options_ended = false;  // after "--" every argument is a file name
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -171,11 +190,12 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
       options_ended = true;
       continue;
     }
-    if (arg == "--quiet") {
-      args.quiet = true;
+    if (arg == "--quiet" || arg == "--atlas") {
+      args.quiet |= arg == "--quiet";
       continue;
     }
-    if (const auto* p = cliParameter(arg); p && p->type == sdp::filter::ParameterType::Bool) {
+    if (const auto* p = cliParameter(arg, args.atlas);
+        p && p->type == sdp::filter::ParameterType::Bool) {
       args.values.*p->bool_field = true;
       continue;
     }
@@ -193,11 +213,13 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
     if (arg == "--report") {
       args.report_path = value();
       if (args.report_path.empty()) throw UsageError("--report needs a file name");
-    } else if (const auto* p = cliParameter(arg);
+    } else if (const auto* p = cliParameter(arg, args.atlas);
                p && p->type != sdp::filter::ParameterType::Bool) {
       setParameter(*p, value(), args.values);
     } else {
-      throw UsageError("unknown option " + arg + " (see --help)");
+      throw UsageError("unknown option " + arg +
+                       (!args.atlas && cliParameter(arg, true) ? " (an --atlas option)" : "") +
+                       " (see --help)");
     }
   }
   if (positional.size() != 2) {
@@ -236,8 +258,50 @@ class WrittenFiles {
   std::vector<std::string> paths_;
 };
 
+// Writes the layout as OUT asks (OBJ + MTL + checkerboard PNG, or PLY with `chart` per face when
+// given), and the report; nothing is left behind when any of it fails.
+void writeOutputs(const Arguments& args, const sdp::io::MeshData& mesh, const sdp::Layout& layout,
+                  const std::string& json, const std::vector<std::string>& warnings) {
+  WrittenFiles written;
+  const fs::path out(args.output);
+  if (lowercaseExtension(args.output) == ".obj") {
+    const std::string png_name = out.stem().string() + (args.atlas ? "_atlas.png" : "_checker.png");
+    const std::string png_path = (out.parent_path() / png_name).string();
+    const int size = args.values.texture_size;
+    sdp::io::writePng(png_path, size, size, sdp::checkerboardRGB(size, args.values.checkers));
+    written.add(png_path);
+    sdp::io::writeObjWithTexture(args.output, mesh.V, mesh.F, layout, png_name);
+    written.add(args.output);
+    written.add(fs::path(out).replace_extension(".mtl").string());
+  } else {
+    sdp::io::writePly(args.output, mesh.V, mesh.F, layout);
+    written.add(args.output);
+  }
+  if (!args.report_path.empty()) {
+    sdp::io::writeTextFile(args.report_path, json);
+    written.add(args.report_path);
+  }
+  written.keep();
+  for (const std::string& warning : warnings) std::cerr << "warning: " << warning << '\n';
+  if (!args.quiet) std::cout << json << std::flush;
+}
+
+int runAtlas(const Arguments& args, const sdp::io::MeshData& mesh) {
+  sdp::atlas::AtlasOptions options = sdp::filter::toAtlasOptions(args.values);
+  options.storage =
+      lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
+  sdp::atlas::AtlasResult result = sdp::atlas::makeAtlas(mesh.V, mesh.F, options);
+  if (mesh.polygons_triangulated > 0)
+    result.report.notes.insert(result.report.notes.begin(),
+                               std::to_string(mesh.polygons_triangulated) +
+                                   " polygons with more than 3 vertices were fan-triangulated");
+  writeOutputs(args, mesh, result.layout, result.report.toJson(), result.report.warnings);
+  return 0;
+}
+
 int run(const Arguments& args) {
   const sdp::io::MeshData mesh = sdp::io::readMesh(args.input);
+  if (args.atlas) return runAtlas(args, mesh);
   // The written texture coordinates span [0,1] so the checkerboard covers the patch once,
   // unless the caller wants the core's own scale (area-matched for the measured boundary). PLY
   // holds them in single precision, OBJ in full: the core makes the map one-to-one as stored.
@@ -255,31 +319,7 @@ int run(const Arguments& args) {
   }
   std::string json = report.toJson();
   if (json.empty() || json.back() != '\n') json += '\n';
-  WrittenFiles written;
-  const fs::path out(args.output);
-  if (lowercaseExtension(args.output) == ".obj") {
-    const std::string png_name = out.stem().string() + "_checker.png";
-    const std::string png_path = (out.parent_path() / png_name).string();
-    const int size = args.values.texture_size;
-    sdp::io::writePng(png_path, size, size, sdp::checkerboardRGB(size, args.values.checkers));
-    written.add(png_path);
-    sdp::io::writeObjWithTexture(args.output, mesh.V, mesh.F, result.layout, png_name);
-    written.add(args.output);
-    written.add(fs::path(out).replace_extension(".mtl").string());
-  } else {
-    sdp::io::writePly(args.output, mesh.V, mesh.F, result.layout);
-    written.add(args.output);
-  }
-  if (!args.report_path.empty()) {
-    sdp::io::writeTextFile(args.report_path, json);
-    written.add(args.report_path);
-  }
-  written.keep();
-
-  for (const std::string& warning : report.warnings) {
-    std::cerr << "warning: " << warning << '\n';
-  }
-  if (!args.quiet) std::cout << json << std::flush;
+  writeOutputs(args, mesh, result.layout, json, report.warnings);
   return 0;
 }
 

@@ -1081,6 +1081,9 @@ void writePly(const std::string& path, const Positions& V, const Triangles& F,
   data += "property double x\nproperty double y\nproperty double z\n";
   data += "element face " + std::to_string(F.rows()) + "\n";
   data += "property list uchar int vertex_indices\nproperty list uchar float texcoord\n";
+  // An atlas's chart per face (MeshLab reads it as the per-face attribute `chart`).
+  const bool charts = static_cast<Eigen::Index>(layout.chart.size()) == F.rows();
+  if (charts) data += "property int chart\n";
   data += "end_header\n";
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     for (int axis = 0; axis < 3; ++axis) putDouble(data, V(i, axis));
@@ -1094,6 +1097,7 @@ void writePly(const std::string& path, const Positions& V, const Triangles& F,
       putFloat(data, layout.uv(layout.face_uv(f, c), 0));
       putFloat(data, layout.uv(layout.face_uv(f, c), 1));
     }
+    if (charts) putLittleEndian32(data, static_cast<uint32_t>(layout.chart[f]));
     out.maybeFlush();
   }
   out.flush();

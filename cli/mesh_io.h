@@ -35,7 +35,7 @@ void writeObjWithTexture(const std::string& path, const sdp::Positions& V, const
 
 // Binary little-endian PLY: vertex double x y z; face `list uchar int vertex_indices` and
 // `list uchar float texcoord` (u0 v0 u1 v1 u2 v2 from the layout's corners), MeshLab's
-// per-wedge texture coordinates.
+// per-wedge texture coordinates; with layout.chart (an atlas), `int chart` per face.
 void writePly(const std::string& path, const sdp::Positions& V, const sdp::Triangles& F,
               const sdp::Layout& layout);
 

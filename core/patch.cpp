@@ -182,7 +182,8 @@ void checkConnected(const Patch& p) {
          " connected components: its faces share no edges (merge duplicate vertices first)");
   if (components > 1)
     fail("the mesh has " + std::to_string(components) +
-         " connected components; a patch must be one piece (select one component)");
+         " connected components; a patch must be one piece (select one component, or use the atlas "
+         "filter: Straightest Distances Atlas; --atlas in the CLI)");
 }
 
 // Boundary loops: every boundary vertex has exactly one outgoing boundary edge. Fills
@@ -206,7 +207,9 @@ int findBoundaryLoops(Patch& p, int boundary_half_edges, std::vector<int>& bound
     }
   }
   if (boundary_half_edges == 0)
-    fail("the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first");
+    fail(
+        "the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first, or "
+        "use the atlas filter (Straightest Distances Atlas; --atlas in the CLI)");
   int loops = 0;
   std::vector<char> visited(n, 0);
   for (int start = 0; start < n; ++start) {

@@ -1,5 +1,7 @@
 #include "report.h"
 
+#include "json.h"
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -7,61 +9,11 @@
 namespace sdp {
 namespace {
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
-// JSON has no inf/nan: a non-finite number is written as null.
-std::string jsonNumber(double x) {
-  if (!std::isfinite(x)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", x);
-  return buf;
-}
-
-std::string jsonInt(int x) {
-  return std::to_string(x);
-}
-
-template <class T>
-std::string jsonList(const std::vector<T>& items, std::string (*item)(const T&)) {
-  std::string out = "[";
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + item(items[i]);
-  return out + "]";
-}
-
-// {"a": 1, "b": 2} from key/value-text pairs.
-std::string jsonObject(const std::vector<std::pair<std::string, std::string>>& members) {
-  std::string out = "{";
-  for (size_t i = 0; i < members.size(); ++i)
-    out += (i ? ", " : "") + jsonString(members[i].first) + ": " + members[i].second;
-  return out + "}";
-}
+using json::jsonInt;
+using json::jsonList;
+using json::jsonNumber;
+using json::jsonObject;
+using json::jsonString;
 
 ReportField summary(const char* key, const char* meaning, const char* log_label,
                     const char* log_format, bool integer, double (*number)(const Report&)) {

@@ -321,4 +321,105 @@ std::string markdownTable(const std::string& which) {
   }
   return out;
 }
+
+// ---- The atlas filter ----
+
+const char* const kAtlasFilterName = "Parametrization: Straightest Distances Atlas";
+const char* const kAtlasPythonFilterName =
+    "compute_texcoord_parametrization_straightest_distances_atlas";
+
+std::string atlasHelp() {
+  return "Cuts any triangle mesh (closed, any genus, many pieces, non-manifold or inconsistently "
+         "oriented parts) into disk-shaped charts, flattens each by straightest distances with "
+         "the patch filter's pipeline (one-to-one by construction, refined to low stretch), and "
+         "packs them at one texel density into one texture with a gutter between charts. The "
+         "result is checked as MeshLab stores it: no flipped face, no chart overlapping another, "
+         "every gutter kept. Per-wedge texture coordinates (seams split), a per-face attribute "
+         "<i>chart</i>, per-face quality = stretch, and a checkerboard texture are written; the "
+         "mesh's vertices, faces, colours and selection are not changed. The log lists charts, "
+         "seam length, packing efficiency, L2 and L&infin; stretch and the time.";
+}
+
+const std::vector<ParameterDescription>& atlasParameters() {
+  static const std::vector<ParameterDescription> list = {
+      intRow("texturesize", "--texture-size", "PX", "Texture size (pixels)",
+             "Width and height of the texture the charts are packed for; the gutter is counted "
+             "in its texels.",
+             2048, 64, 16384, &FilterValues::texture_size),
+      intRow("gutter", "--gutter", "PX", "Gutter (texels)",
+             "Texels kept free between any two charts at the texture size, so that filtering "
+             "and mipmaps do not bleed one chart into another.",
+             2, 0, 64, &FilterValues::gutter),
+      intRow("chartstretch", "--chart-stretch", "P", "Chart stretch limit (%)",
+             "A chart whose L2 stretch, flattened, is more than P% above isometric is split in "
+             "two; lower values give more, smaller charts with less stretch.",
+             3, 0, 100, &FilterValues::chart_stretch),
+      intRow("stretchiterations", "--stretch-iterations", "K", "Stretch iterations",
+             "Most refinement steps per stage for each chart, as in the patch filter; 0 gives "
+             "each chart the paper's linear map.",
+             sdp::kDefaultStretchIterations, 0, 100, &FilterValues::stretch_iterations),
+      intRow("refinementwork", "--time-budget", "F", "Refinement work budget",
+             "Each chart's refinement may do F times its linear map's work, and the atlas "
+             "shares one floor for all its charts; 0: no limit. Counted, not timed: the same "
+             "atlas on every run.",
+             static_cast<int>(sdp::kDefaultRefineWorkFactor), 0, 1000, &FilterValues::time_budget),
+      boolRow("selectedonly", "", "Selected faces only",
+              "Make the atlas of the selected faces only; other faces keep their texture "
+              "coordinates.",
+              &FilterValues::selected_only),
+      stringRow("texturename", "Texture file name",
+                "Name of the checkerboard image written next to the mesh file and attached as "
+                "its texture.",
+                "straightest_atlas.png", &FilterValues::texture_name),
+      intRow("checkers", "--checkers", "N", "Checkerboard squares",
+             "Squares per side of the checkerboard.", 64, 1, 1024, &FilterValues::checkers),
+  };
+  return list;
+}
+
+FilterValues atlasDefaultValues() {
+  FilterValues values = defaultValues();
+  for (const ParameterDescription& p : atlasParameters()) {
+    if (p.int_field) values.*p.int_field = p.default_int;
+    if (p.bool_field) values.*p.bool_field = p.default_int != 0;
+    if (p.string_field) values.*p.string_field = p.default_string;
+  }
+  return values;
+}
+
+sdp::atlas::AtlasOptions toAtlasOptions(const FilterValues& values) {
+  for (const ParameterDescription& p : atlasParameters()) {
+    if (p.int_field) checkValue(p, values.*p.int_field, p.inMeshLab() ? p.name : p.cli_flag);
+  }
+  if (values.texture_name.empty()) throw ParameterizationError("the texture file name is empty");
+  sdp::atlas::AtlasOptions options;
+  options.chart = sdp::productDefaults();
+  options.chart.stretch_iterations = values.stretch_iterations;
+  options.chart.refine_work_factor = values.time_budget;
+  if (values.time_budget == 0) options.chart.refine_min_work = 0;
+  options.texture_size = values.texture_size;
+  options.gutter = values.gutter;
+  options.max_chart_stretch = 1.0 + values.chart_stretch / 100.0;
+  return options;
+}
+
+std::vector<std::string> atlasReportLines(const sdp::atlas::AtlasReport& r) {
+  std::vector<std::string> lines;
+  lines.push_back("Straightest distances atlas: " + std::to_string(r.vertices) + " vertices, " +
+                  std::to_string(r.faces) + " faces, " + std::to_string(r.components) + " pieces");
+  std::string summary;
+  for (const sdp::atlas::AtlasSummaryField& field : sdp::atlas::atlasSummaryFields())
+    summary += (summary.empty() ? "" : ", ") + std::string(field.key) + " " +
+               formatted(field.log_format, field.number(r));
+  lines.push_back(summary);
+  if (r.non_manifold_edges + r.non_manifold_vertices + r.inconsistent_edges + r.zero_area_faces > 0)
+    lines.push_back("split: " + std::to_string(r.non_manifold_edges) + " non-manifold edges, " +
+                    std::to_string(r.non_manifold_vertices) + " non-manifold vertices, " +
+                    std::to_string(r.inconsistent_edges) + " edges where orientation flips; " +
+                    std::to_string(r.zero_area_faces) + " zero-area faces charted alone");
+  for (const std::string& note : r.notes) lines.push_back(note);
+  for (const std::string& warning : r.warnings) lines.push_back("warning: " + warning);
+  return lines;
+}
+
 }  // namespace sdp::filter

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atlas/atlas.h"
 #include "core/options.h"
 #include "core/report.h"
 
@@ -34,6 +35,9 @@ struct FilterValues {
   int checkers;
   int texture_size;
   bool natural_scale;  // CLI: UVs at the solver's scale instead of fitted into [0,1]
+  // The atlas filter only (atlas_definition.h).
+  int gutter;         // texels kept free between charts
+  int chart_stretch;  // a chart stretched more than 1 + this / 100 (L2) is split
 };
 
 enum class ParameterType { Enum, Int, Bool, String };
@@ -95,5 +99,21 @@ std::string currentFailureReason();
 // The README's tables in Markdown, generated from the tables above (tests/docs checks that the
 // README holds them): "parameters" and "report".
 std::string markdownTable(const std::string& which);
+
+// The atlas filter (core/atlas/atlas.h): its own names and parameter table, so the patch
+// filter's parameters (and every saved script of it) stay as they are. Its rows fill the same
+// FilterValues.
+extern const char* const kAtlasFilterName;        // "Parametrization: Straightest Distances Atlas"
+extern const char* const kAtlasPythonFilterName;  // "..._straightest_distances_atlas"
+std::string atlasHelp();
+// In MeshLab's dialog order: texturesize, gutter, chartstretch, stretchiterations,
+// refinementwork, selectedonly, texturename, checkers.
+const std::vector<ParameterDescription>& atlasParameters();
+FilterValues atlasDefaultValues();
+// Checks the atlas rows' values and maps them to the core's atlas options (storage left to the
+// front end).
+sdp::atlas::AtlasOptions toAtlasOptions(const FilterValues& values);
+// The atlas report as log lines: what ran, the summary, what was split, notes and warnings.
+std::vector<std::string> atlasReportLines(const sdp::atlas::AtlasReport& report);
 
 }  // namespace sdp::filter

@@ -24,12 +24,29 @@ inline QString qstr(const std::string& s) {
   return QString::fromStdString(s);
 }
 
-// Adds the MeshLab rows of sdp::filter::parameters() to a MeshLab parameter list, in order,
-// with docs/method.md §6 labels.
+// The filters of the plugin: the patch filter and the atlas filter, each with its own table.
+enum class Filter { Patch, Atlas };
+
+inline const std::vector<sdp::filter::ParameterDescription>& tableOf(Filter filter) {
+  return filter == Filter::Atlas ? sdp::filter::atlasParameters() : sdp::filter::parameters();
+}
+inline const char* nameOf(Filter filter) {
+  return filter == Filter::Atlas ? sdp::filter::kAtlasFilterName : sdp::filter::kFilterName;
+}
+inline const char* pythonNameOf(Filter filter) {
+  return filter == Filter::Atlas ? sdp::filter::kAtlasPythonFilterName
+                                 : sdp::filter::kPythonFilterName;
+}
+inline std::string helpOf(Filter filter) {
+  return filter == Filter::Atlas ? sdp::filter::atlasHelp() : sdp::filter::filterHelp();
+}
+
+// Adds the MeshLab rows of the filter's table to a MeshLab parameter list, in order, with
+// docs/method.md §6 labels.
 template <class RichEnumT, class RichIntT, class RichBoolT, class RichStringT, class ParameterList>
-void addFilterParameters(ParameterList& list) {
+void addFilterParameters(ParameterList& list, Filter filter = Filter::Patch) {
   using sdp::filter::ParameterType;
-  for (const auto& p : sdp::filter::parameters()) {
+  for (const auto& p : tableOf(filter)) {
     if (!p.inMeshLab()) continue;
     switch (p.type) {
       case ParameterType::Enum: {
@@ -54,10 +71,12 @@ void addFilterParameters(ParameterList& list) {
 
 // Reads the values back by the table's names; the CLI-only rows keep their defaults.
 template <class ParameterList>
-sdp::filter::FilterValues readFilterValues(const ParameterList& list) {
+sdp::filter::FilterValues readFilterValues(const ParameterList& list,
+                                           Filter filter = Filter::Patch) {
   using sdp::filter::ParameterType;
-  sdp::filter::FilterValues v = sdp::filter::defaultValues();
-  for (const auto& p : sdp::filter::parameters()) {
+  sdp::filter::FilterValues v =
+      filter == Filter::Atlas ? sdp::filter::atlasDefaultValues() : sdp::filter::defaultValues();
+  for (const auto& p : tableOf(filter)) {
     if (!p.inMeshLab()) continue;
     const QString name = qstr(p.name);
     switch (p.type) {
@@ -181,6 +200,35 @@ MeshModelRun parameterizeMeshModel(MeshModelT& mm, const ParameterList& paramete
 // The report's log lines: the filter's wording plus this run's remarks.
 inline std::vector<std::string> logLines(const MeshModelRun& done) {
   return sdp::filter::reportLines(done.run.result.report, done.run.notes);
+}
+
+struct MeshModelAtlas {
+  vcg_adapter::AtlasRun run;
+  CheckerTexture texture;  // written, not yet attached
+};
+
+// The atlas filter's applyFilter part every shim shares, in the same failure-safe order as the
+// patch filter's: parameters, the core, the stored values, the texture file, then the mesh
+// (wedge UVs, per-face quality and the per-face attribute `chart` only).
+template <class MeshModelT, class ParameterList>
+MeshModelAtlas atlasMeshModel(MeshModelT& mm, const ParameterList& parameters,
+                              const sdp::ProgressCallback& progress) {
+  using Mesh = std::decay_t<decltype(mm.cm)>;
+  const sdp::filter::FilterValues values = readFilterValues(parameters, Filter::Atlas);
+  textureFileName(values.texture_name);
+  sdp::atlas::AtlasOptions options = sdp::filter::toAtlasOptions(values);
+  options.storage = sdp::UVStorage::FloatAndSixDecimals;
+  options.chart.progress = progress;
+  MeshModelAtlas out{vcg_adapter::atlasOnMesh(mm.cm, options, values.selected_only), {}};
+  const auto stored = vcg_adapter::prepareLayout<Mesh>(out.run.input, out.run.result.layout,
+                                                       out.run.result.face_stretch);
+  out.texture =
+      writeCheckerTexture(mm.fullName(), values.texture_name, values.texture_size, values.checkers);
+  mm.updateDataMask(MeshModelT::MM_WEDGTEXCOORD | MeshModelT::MM_FACEQUALITY);
+  vcg_adapter::WriteOptions write;  // wedges only: a seam vertex has no single coordinate
+  vcg_adapter::applyResult(mm.cm, out.run.input, stored, write);
+  vcg_adapter::applyCharts(mm.cm, out.run.input, out.run.result.layout.chart);
+  return out;
 }
 
 }  // namespace sdp::meshlab

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atlas/atlas.h"
 #include "core/parameterize.h"
 #include "vcg_adapters/patch_adapter.h"
 
@@ -48,6 +49,21 @@ MeshRun runOnMesh(const MeshType& mesh, sdp::Options options, bool selected_face
 
   run.result = sdp::parameterize(run.input.positions, run.input.triangles, options);
   run.result.report.source_vertex = run.input.meshVertexOf(run.result.report.source_vertex);
+  return run;
+}
+
+struct AtlasRun {
+  PatchInput input;
+  sdp::atlas::AtlasResult result;
+};
+
+// The atlas of all live faces (or the selected ones) of a vcg mesh; the mesh is not touched.
+template <class MeshType>
+AtlasRun atlasOnMesh(const MeshType& mesh, const sdp::atlas::AtlasOptions& options,
+                     bool selected_faces_only) {
+  AtlasRun run;
+  run.input = extractPatch(mesh, selected_faces_only);
+  run.result = sdp::atlas::makeAtlas(run.input.positions, run.input.triangles, options);
   return run;
 }
 

@@ -167,14 +167,15 @@ struct StoredResult {
   sdp::UVMeasures metrics;      // of the stored UVs (flips, L2, L-infinity, per-face L2)
 };
 
-// Computes what applyResult() writes, without touching the mesh. The core's UVs must already be
-// storable: a value the mesh cannot hold exactly would change the map after its final check.
+// Computes what applyResult() writes, without touching the mesh. The layout's UVs must already
+// be storable: a value the mesh cannot hold exactly would change the map after its final check.
+// `metrics` are the stored map's measures (the core measured them so).
 template <class MeshType>
-StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result) {
+StoredResult<TexScalarOf<MeshType>> prepareLayout(const PatchInput& in, const sdp::Layout& layout,
+                                                  const std::vector<double>& face_stretch) {
   using TexScalar = TexScalarOf<MeshType>;
-  const sdp::Layout& layout = result.layout;
   if (layout.face_uv.rows() != static_cast<Eigen::Index>(in.mesh_face.size()) ||
-      result.face_stretch.size() != in.mesh_face.size() ||
+      face_stretch.size() != in.mesh_face.size() ||
       (layout.face_uv.size() > 0 &&
        (layout.face_uv.minCoeff() < 0 || layout.face_uv.maxCoeff() >= layout.uv.rows()))) {
     throw sdp::ParameterizationError("internal error: the result does not match the patch");
@@ -193,6 +194,15 @@ StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sd
           "internal error: the texture coordinates were not rounded for MeshLab's storage");
     }
   }
+  stored.metrics.face_stretch = face_stretch;
+  return stored;
+}
+
+// prepareLayout() of a patch result, with its report's measures.
+template <class MeshType>
+StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result) {
+  StoredResult<TexScalarOf<MeshType>> stored =
+      prepareLayout<MeshType>(in, result.layout, result.face_stretch);
   const sdp::Report& r = result.report;
   if (r.flipped_faces > 0)
     throw sdp::ParameterizationError("internal error: the map to store has flipped faces");
@@ -239,6 +249,20 @@ void applyResult(MeshType& mesh, const PatchInput& in,
       t.N() = options.texture_index;
     }
   }
+}
+
+// The atlas's chart per face as the per-face attribute "chart" (the mesh's scalar type, which
+// pymeshlab reads as face_scalar_attribute_array("chart")); faces outside the input keep theirs
+// (-1 when the attribute is new).
+template <class MeshType>
+void applyCharts(MeshType& mesh, const PatchInput& in, const std::vector<int>& chart) {
+  using Scalar = typename MeshType::ScalarType;
+  const bool existed = vcg::tri::HasPerFaceAttribute(mesh, "chart");
+  auto handle = vcg::tri::Allocator<MeshType>::template GetPerFaceAttribute<Scalar>(mesh, "chart");
+  if (!existed)
+    for (size_t f = 0; f < mesh.face.size(); ++f) handle[f] = Scalar(-1);
+  for (size_t i = 0; i < in.mesh_face.size() && i < chart.size(); ++i)
+    handle[in.mesh_face[i]] = static_cast<Scalar>(chart[i]);
 }
 
 }  // namespace sdp::vcg_adapter

@@ -8,7 +8,7 @@
 #include "filter_straightest_param/meshlab_filter.h"
 
 FilterStraightestParamPlugin::FilterStraightestParamPlugin() {
-  typeList << FP_STRAIGHTEST_PARAM;
+  typeList << FP_STRAIGHTEST_PARAM << FP_STRAIGHTEST_ATLAS;
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -16,12 +16,19 @@ QString FilterStraightestParamPlugin::pluginName() const {
   return "FilterStraightestParam";
 }
 
-QString FilterStraightestParamPlugin::filterName(FilterIDType) const {
-  return QString::fromUtf8(sdp::filter::kFilterName);
+namespace {
+sdp::meshlab::Filter filterOf(int id) {
+  return id == FilterStraightestParamPlugin::FP_STRAIGHTEST_ATLAS ? sdp::meshlab::Filter::Atlas
+                                                                  : sdp::meshlab::Filter::Patch;
+}
+}  // namespace
+
+QString FilterStraightestParamPlugin::filterName(FilterIDType id) const {
+  return QString::fromUtf8(sdp::meshlab::nameOf(filterOf(id)));
 }
 
-QString FilterStraightestParamPlugin::filterInfo(FilterIDType) const {
-  return QString::fromStdString(sdp::filter::filterHelp());
+QString FilterStraightestParamPlugin::filterInfo(FilterIDType id) const {
+  return QString::fromStdString(sdp::meshlab::helpOf(filterOf(id)));
 }
 
 MeshFilterInterface::FilterClass FilterStraightestParamPlugin::getClass(QAction*) {
@@ -41,25 +48,45 @@ MeshFilterInterface::FILTER_ARITY FilterStraightestParamPlugin::filterArity(QAct
   return SINGLE_MESH;
 }
 
-void FilterStraightestParamPlugin::initParameterSet(QAction*, MeshModel&,
+void FilterStraightestParamPlugin::initParameterSet(QAction* action, MeshModel&,
                                                     RichParameterList& parameters) {
-  sdp::meshlab::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
+  sdp::meshlab::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters,
+                                                                             filterOf(ID(action)));
 }
 
 // meshlabserver prints only "Problem with filter" for a false return: the log line carries the
 // reason to script users, errorMessage to the GUI's dialog.
-void FilterStraightestParamPlugin::fail(const std::string& reason) {
+void FilterStraightestParamPlugin::fail(const char* filter, const std::string& reason) {
   errorMessage = QString::fromStdString(reason);
-  Log(GLLogStream::WARNING, "%s: %s", sdp::filter::kFilterName, reason.c_str());
+  Log(GLLogStream::WARNING, "%s: %s", filter, reason.c_str());
 }
 
-bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
+// The atlas: the texture attached by absolute path as for the patch filter, the atlas report's
+// log lines.
+void FilterStraightestParamPlugin::applyAtlas(const RichParameterList& parameters, MeshModel& mm,
+                                              vcg::CallBackPos* cb) {
+  const auto progress = sdp::meshlab::progressTo(cb, "straightest distances ", "\n");
+  const auto done = sdp::meshlab::atlasMeshModel(mm, parameters, progress);
+  mm.cm.textures.clear();
+  mm.cm.textures.push_back(done.texture.path.toStdString());
+  for (const std::string& line : sdp::filter::atlasReportLines(done.run.result.report))
+    Log("%s", line.c_str());
+  Log("texture %s", qUtf8Printable(done.texture.path));
+  if (cb != nullptr) cb(100, "straightest distances atlas: done\n");
+}
+
+bool FilterStraightestParamPlugin::applyFilter(QAction* action, MeshDocument& md,
                                                const RichParameterList& parameters,
                                                vcg::CallBackPos* cb) {
   errorMessage.clear();
+  const sdp::meshlab::Filter which = filterOf(ID(action));
   try {
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
+    if (which == sdp::meshlab::Filter::Atlas) {
+      applyAtlas(parameters, *mm, cb);
+      return true;
+    }
 
     // meshlabserver prints the text as is: one line per stage.
     const auto progress = sdp::meshlab::progressTo(cb, "straightest distances: ", "\n");
@@ -76,7 +103,7 @@ bool FilterStraightestParamPlugin::applyFilter(QAction*, MeshDocument& md,
     if (cb != nullptr) cb(100, "straightest distances: done\n");
     return true;
   } catch (...) {
-    fail(sdp::filter::currentFailureReason());
+    fail(sdp::meshlab::nameOf(which), sdp::filter::currentFailureReason());
   }
   return false;
 }

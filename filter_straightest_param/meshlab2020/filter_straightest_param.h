@@ -12,7 +12,7 @@ class FilterStraightestParamPlugin : public QObject, public MeshFilterInterface 
   Q_INTERFACES(MeshFilterInterface)
 
  public:
-  enum { FP_STRAIGHTEST_PARAM };
+  enum { FP_STRAIGHTEST_PARAM, FP_STRAIGHTEST_ATLAS };
 
   FilterStraightestParamPlugin();
 
@@ -28,5 +28,6 @@ class FilterStraightestParamPlugin : public QObject, public MeshFilterInterface 
                    vcg::CallBackPos* cb) override;
 
  private:
-  void fail(const std::string& reason);
+  void fail(const char* filter, const std::string& reason);
+  void applyAtlas(const RichParameterList& parameters, MeshModel& mm, vcg::CallBackPos* cb);
 };

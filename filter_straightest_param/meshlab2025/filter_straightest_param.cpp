@@ -9,7 +9,7 @@
 #include "filter_straightest_param/meshlab_filter.h"
 
 FilterStraightestParamPlugin::FilterStraightestParamPlugin() {
-  typeList = {FP_STRAIGHTEST_PARAM};
+  typeList = {FP_STRAIGHTEST_PARAM, FP_STRAIGHTEST_ATLAS};
   for (ActionIDType id : types()) actionList.push_back(new QAction(filterName(id), this));
 }
 
@@ -21,18 +21,25 @@ QString FilterStraightestParamPlugin::vendor() const {
   return "straightest_param";
 }
 
-QString FilterStraightestParamPlugin::filterName(ActionIDType) const {
-  return QString::fromUtf8(sdp::filter::kFilterName);
+namespace {
+sdp::meshlab::Filter filterOf(int id) {
+  return id == FilterStraightestParamPlugin::FP_STRAIGHTEST_ATLAS ? sdp::meshlab::Filter::Atlas
+                                                                  : sdp::meshlab::Filter::Patch;
+}
+}  // namespace
+
+QString FilterStraightestParamPlugin::filterName(ActionIDType id) const {
+  return QString::fromUtf8(sdp::meshlab::nameOf(filterOf(id)));
 }
 
 // Set explicitly (docs/method.md §6), not derived from the menu name as FilterPlugin's default
 // does.
-QString FilterStraightestParamPlugin::pythonFilterName(ActionIDType) const {
-  return QString::fromUtf8(sdp::filter::kPythonFilterName);
+QString FilterStraightestParamPlugin::pythonFilterName(ActionIDType id) const {
+  return QString::fromUtf8(sdp::meshlab::pythonNameOf(filterOf(id)));
 }
 
-QString FilterStraightestParamPlugin::filterInfo(ActionIDType) const {
-  return QString::fromStdString(sdp::filter::filterHelp());
+QString FilterStraightestParamPlugin::filterInfo(ActionIDType id) const {
+  return QString::fromStdString(sdp::meshlab::helpOf(filterOf(id)));
 }
 
 FilterPlugin::FilterClass FilterStraightestParamPlugin::getClass(const QAction*) const {
@@ -51,22 +58,45 @@ FilterPlugin::FilterArity FilterStraightestParamPlugin::filterArity(const QActio
   return SINGLE_MESH;
 }
 
-RichParameterList FilterStraightestParamPlugin::initParameterList(const QAction*,
+RichParameterList FilterStraightestParamPlugin::initParameterList(const QAction* action,
                                                                   const MeshModel&) {
   RichParameterList parameters;
-  sdp::meshlab::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters);
+  sdp::meshlab::addFilterParameters<RichEnum, RichInt, RichBool, RichString>(parameters,
+                                                                             filterOf(ID(action)));
   return parameters;
 }
 
+// The atlas: the texture attached as for the patch filter, the atlas report's log lines and
+// summary dict.
+std::map<std::string, QVariant> FilterStraightestParamPlugin::applyAtlas(
+    const RichParameterList& parameters, MeshModel& mm, vcg::CallBackPos* cb) {
+  const auto progress = sdp::meshlab::progressTo(cb, "straightest distances ", "");
+  const auto done = sdp::meshlab::atlasMeshModel(mm, parameters, progress);
+  mm.clearTextures();
+  mm.addTexture(done.texture.name.toStdString(), done.texture.image);
+  for (const std::string& line : sdp::filter::atlasReportLines(done.run.result.report))
+    log("%s", line.c_str());
+  log("texture %s", qUtf8Printable(done.texture.path));
+  if (cb != nullptr) cb(100, "done");
+  std::map<std::string, QVariant> values;
+  for (const auto& field : sdp::atlas::atlasSummaryFields()) {
+    const double value = field.number(done.run.result.report);
+    values[field.key] = field.integer ? QVariant(static_cast<int>(value)) : QVariant(value);
+  }
+  return values;
+}
+
 std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
-    const QAction*, const RichParameterList& parameters, MeshDocument& md,
+    const QAction* action, const RichParameterList& parameters, MeshDocument& md,
     unsigned int& /*postConditionMask*/, vcg::CallBackPos* cb) {
   // Every failure leaves here as MLException with the core's one-line reason: pymeshlab turns it
   // into PyMeshLabException, the GUI into its error dialog. Nothing else may escape.
   std::string reason;
+  const sdp::meshlab::Filter which = filterOf(ID(action));
   try {
     MeshModel* mm = md.mm();
     if (mm == nullptr) throw sdp::ParameterizationError("no current mesh");
+    if (which == sdp::meshlab::Filter::Atlas) return applyAtlas(parameters, *mm, cb);
 
     const auto progress = sdp::meshlab::progressTo(cb, "", "");
     const auto done = sdp::meshlab::parameterizeMeshModel(*mm, parameters, progress);
@@ -94,7 +124,7 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
   } catch (...) {
     reason = sdp::filter::currentFailureReason();
   }
-  log(GLLogStream::WARNING, "%s: %s", sdp::filter::kFilterName, reason.c_str());
+  log(GLLogStream::WARNING, "%s: %s", sdp::meshlab::nameOf(which), reason.c_str());
   throw MLException(QString::fromStdString(reason));
 }
 

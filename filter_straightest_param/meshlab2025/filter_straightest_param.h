@@ -1,6 +1,7 @@
-// MeshLab 2025.07 shim (pymeshlab 2025.7, and the MeshLab 2025.07 GUI): a thin FilterPlugin over
-// the shared filter description and the core. pymeshlab exposes it as
-// MeshSet.compute_texcoord_parametrization_straightest_distances(...) returning the report dict.
+// MeshLab 2025.07 shim (pymeshlab 2025.7, and the MeshLab 2022.02 and 2025.07 GUIs): a thin
+// FilterPlugin over the shared filter descriptions and the core, with two filters. pymeshlab
+// exposes them as MeshSet.compute_texcoord_parametrization_straightest_distances(...) and
+// ..._straightest_distances_atlas(...), each returning its report dict.
 #pragma once
 
 #include <common/plugins/interfaces/filter_plugin.h>
@@ -12,7 +13,7 @@ class FilterStraightestParamPlugin : public QObject, public FilterPlugin {
   Q_INTERFACES(FilterPlugin)
 
  public:
-  enum { FP_STRAIGHTEST_PARAM };
+  enum { FP_STRAIGHTEST_PARAM, FP_STRAIGHTEST_ATLAS };
 
   FilterStraightestParamPlugin();
 
@@ -30,4 +31,8 @@ class FilterStraightestParamPlugin : public QObject, public FilterPlugin {
                                               const RichParameterList& parameters, MeshDocument& md,
                                               unsigned int& postConditionMask,
                                               vcg::CallBackPos* cb) override;
+
+ private:
+  std::map<std::string, QVariant> applyAtlas(const RichParameterList& parameters, MeshModel& mm,
+                                             vcg::CallBackPos* cb);
 };

@@ -1,4 +1,4 @@
-"""The straightest-distance parameterization filter for pymeshlab 2025.7.
+"""The straightest-distance parameterization filters for pymeshlab 2025.7.
 
     import pymeshlab
     import pymeshlab_straightest  # loads the plugin, binds the MeshSet method
@@ -15,6 +15,13 @@ returns the report dict (``l2_stretch``, ``linf_stretch``, ``flipped_faces``, ``
 ``source_vertex``, ``seconds``). A mesh the filter refuses raises
 ``pymeshlab.PyMeshLabException`` whose message ends with the one-line reason; the mesh is left
 as it was.
+
+It also binds ``MeshSet.compute_texcoord_parametrization_straightest_distances_atlas``, the atlas
+of any mesh (closed, any genus, many pieces): keywords ``texturesize``, ``gutter``,
+``chartstretch``, ``stretchiterations``, ``refinementwork``, ``selectedonly``, ``texturename``,
+``checkers``; it returns ``charts``, ``seam``, ``packing_efficiency``, ``l2_stretch``,
+``linf_stretch``, ``flipped_faces``, ``overlapping_charts``, ``seconds``, and the chart of each
+face is ``ms.current_mesh().face_custom_scalar_attribute_array("chart")``.
 
 Batches: in pymeshlab 2025.7, a loop that catches a filter's exception and goes on to a new
 ``MeshSet`` crashes the interpreter at the next load (upstream PyMeshLab issue #399). The cause:
@@ -45,6 +52,7 @@ import pymeshlab
 from ._version import VERSION as __version__  # noqa: F401
 
 FILTER_NAME = "compute_texcoord_parametrization_straightest_distances"
+ATLAS_FILTER_NAME = FILTER_NAME + "_atlas"
 PLUGIN_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)),
                            "libfilter_straightest_param.so")
 
@@ -62,23 +70,32 @@ def _reset_pymeshlab_logging():
     scratch.apply_filter("set_selection_none")
 
 
-def compute_texcoord_parametrization_straightest_distances(self, **parameters):
-    try:
-        report = self.apply_filter(FILTER_NAME, **parameters)
-    except BaseException:
-        _refused_mesh_sets.append(self)
+def _bound(filter_name, doc):
+    def run(self, **parameters):
         try:
-            _reset_pymeshlab_logging()
-        except Exception:  # the caller must see the filter's own error, not this one
-            pass
-        raise
-    # Success reset both of pymeshlab's loggers: the refused MeshSets may go.
-    _refused_mesh_sets.clear()
-    return report
+            report = self.apply_filter(filter_name, **parameters)
+        except BaseException:
+            _refused_mesh_sets.append(self)
+            try:
+                _reset_pymeshlab_logging()
+            except Exception:  # the caller must see the filter's own error, not this one
+                pass
+            raise
+        # Success reset both of pymeshlab's loggers: the refused MeshSets may go.
+        _refused_mesh_sets.clear()
+        return report
+    run.__name__ = filter_name
+    run.__doc__ = doc
+    return run
 
 
-compute_texcoord_parametrization_straightest_distances.__doc__ = (
+compute_texcoord_parametrization_straightest_distances = _bound(
+    FILTER_NAME,
     "Parametrization: Straightest Distances (see help(pymeshlab_straightest)). Keyword "
+    "parameters as in MeshLab's dialog; returns the report dict.")
+compute_texcoord_parametrization_straightest_distances_atlas = _bound(
+    ATLAS_FILTER_NAME,
+    "Parametrization: Straightest Distances Atlas (see help(pymeshlab_straightest)). Keyword "
     "parameters as in MeshLab's dialog; returns the report dict.")
 
 
@@ -89,6 +106,8 @@ def _load():
     if FILTER_NAME not in pymeshlab.filter_list():
         pymeshlab.load_plugin(PLUGIN_PATH)
     setattr(pymeshlab.MeshSet, FILTER_NAME, compute_texcoord_parametrization_straightest_distances)
+    setattr(pymeshlab.MeshSet, ATLAS_FILTER_NAME,
+            compute_texcoord_parametrization_straightest_distances_atlas)
 
 
 _load()

@@ -425,3 +425,67 @@ TEST_F(CliTest, HelpAndVersion) {
   EXPECT_EQ(version.out.rfind("straightest_param ", 0), 0u) << version.out;
   EXPECT_EQ(linesOf(version.out).size(), 1u);
 }
+
+namespace {
+
+// A closed octahedron, split once (18 vertices, 32 faces): no boundary, so only --atlas takes it.
+std::string closedOff() {
+  std::ostringstream off;
+  const double v[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const int f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                       {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  off << "OFF\n6 8 0\n";
+  for (const auto& p : v) off << p[0] << " " << p[1] << " " << p[2] << "\n";
+  for (const auto& t : f) off << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  return off.str();
+}
+
+}  // namespace
+
+TEST_F(CliTest, AtlasOfAClosedMeshWritesTexturedObjAndReport) {
+  const std::string in = (dir_ / "closed.off").string();
+  std::ofstream(in) << closedOff();
+  // Without --atlas the patch filter refuses it and names the atlas.
+  expectFailure(run({in, outPath("p.obj")}), 1, "--atlas");
+  const ToolRun r = run(
+      {in, outPath("a.obj"), "--atlas", "--texture-size", "256", "--report", outPath("r.json")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(outputFiles(), (std::vector<std::string>{"a.mtl", "a.obj", "a_atlas.png", "r.json"}));
+  for (const char* key : {"charts", "seam", "packing_efficiency", "l2_stretch", "linf_stretch",
+                          "flipped_faces", "overlapping_charts", "seconds", "stage_seconds",
+                          "texels_per_unit", "non_manifold_edges", "chart_table"})
+    EXPECT_FALSE(jsonValue(r.out, key).empty()) << key << "\n" << r.out;
+  EXPECT_EQ(jsonValue(r.out, "flipped_faces"), "0");
+  EXPECT_EQ(jsonValue(r.out, "overlapping_charts"), "0");
+  EXPECT_EQ(jsonValue(r.out, "texture_size"), "256");
+  EXPECT_EQ(jsonValue(r.out, "gutter"), "2");
+  EXPECT_GE(std::stoi(jsonValue(r.out, "charts")), 2);  // closed: at least one cut
+  int vt = 0, faces = 0;
+  for (const std::string& line : linesOf(readFile(outPath("a.obj")))) {
+    vt += line.rfind("vt ", 0) == 0;
+    faces += line.rfind("f ", 0) == 0 && std::count(line.begin(), line.end(), '/') == 3;
+  }
+  EXPECT_GT(vt, 6);  // seams split: more texture coordinates than vertices
+  EXPECT_EQ(faces, 8);
+  EXPECT_EQ(readFile(outPath("r.json")), r.out);
+}
+
+TEST_F(CliTest, AtlasPlyCarriesTheChartPerFace) {
+  const ToolRun r = run({(kMeshes / "invalid" / "two_components.off").string(), outPath("a.ply"),
+                         "--atlas", "--gutter", "4", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string bytes = readFile(outPath("a.ply"));
+  EXPECT_NE(bytes.find("property list uchar float texcoord\nproperty int chart\n"),
+            std::string::npos);
+}
+
+TEST_F(CliTest, AtlasOptionsNeedAtlasAndBadInputFailsCleanly) {
+  expectFailure(run({kNefertiti, outPath("m.obj"), "--gutter", "2"}), 2, "--atlas option");
+  expectFailure(run({kNefertiti, outPath("m.obj"), "--atlas", "--gutter", "99"}), 2, "--gutter");
+  expectFailure(
+      run({(kMeshes / "invalid" / "nan_vertex.off").string(), outPath("m.obj"), "--atlas"}), 1,
+      "not finite");
+  expectFailure(
+      run({(kMeshes / "invalid" / "truncated.off").string(), outPath("m.ply"), "--atlas"}), 1,
+      "truncated.off");
+}

@@ -67,6 +67,28 @@ def sander_stretch(triangles):
     return math.sqrt(sum_l2_area3 / sum_area3) * scale, linf * scale
 
 
+def count_charts(faces, uvs):
+    """Faces joined across an edge whose two sides carry the same UV values."""
+    parent = list(range(len(faces)))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+    sides = {}
+    for f, corners in enumerate(faces):
+        for k in range(len(corners)):
+            (a, ta), (b, tb) = corners[k], corners[(k + 1) % len(corners)]
+            key = (min(a, b), max(a, b))
+            uv = {a: uvs[index(ta, len(uvs))], b: uvs[index(tb, len(uvs))]}
+            for g, other in sides.get(key, []):
+                if other == uv:
+                    parent[find(f)] = find(g)
+            sides.setdefault(key, []).append((f, uv))
+    return len({find(f) for f in range(len(faces))})
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("obj")
@@ -74,6 +96,9 @@ def main():
     parser.add_argument("--l2-tolerance", type=float, default=2e-3,
                         help="relative; the OBJ keeps only 6 decimals per coordinate")
     parser.add_argument("--max-l2", type=float, help="fail when the file's L2 stretch is above this")
+    parser.add_argument("--atlas", action="store_true",
+                        help="the atlas filter's output: every UV in [0,1], and the charts (faces "
+                             "joined across edges with the same UVs on both sides) as logged")
     args = parser.parse_args()
 
     problems = []
@@ -118,9 +143,20 @@ def main():
           f"textures {textures}")
     if args.max_l2 is not None and not l2 <= args.max_l2:
         problems.append(f"L2 stretch {l2:.4f} above {args.max_l2}")
+    if args.atlas:
+        outside = sum(1 for u, v in uvs if not (0 <= u <= 1 and 0 <= v <= 1))
+        if outside:
+            problems.append(f"{outside} texture coordinates outside [0,1]")
+        charts = count_charts(faces, uvs)
+        print(f"{args.obj}: {charts} charts by their texture coordinates")
+        if args.log:
+            with open(args.log, errors="replace") as f:
+                logged = re.findall(r"(?<![_a-z])charts ([0-9]+),", f.read())
+            if not logged or int(logged[-1]) != charts:
+                problems.append(f"logged charts {logged[-1:]} differ from the file's {charts}")
     if args.log:
         with open(args.log, errors="replace") as f:
-            logged = re.findall(r"L2 stretch ([0-9.eE+-]+)", f.read())
+            logged = re.findall(r"(?:L2 stretch|l2_stretch) ([0-9.eE+-]+)", f.read())
         if not logged:
             problems.append("no 'L2 stretch' line in the log")
         elif not math.isclose(float(logged[-1]), l2, rel_tol=args.l2_tolerance):

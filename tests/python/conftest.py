@@ -28,11 +28,11 @@ REPORT_DIR = pathlib.Path(os.environ.get("SDP_REPORT_DIR", REPO / "build/reports
 _refused_mesh_sets = []
 
 
-def run_guarded(ms, **parameters):
-    """Our filter on `ms`, with the #399 guard."""
+def run_guarded(ms, filter_name=FILTER, **parameters):
+    """Our filter (the patch filter unless named) on `ms`, with the #399 guard."""
     import pymeshlab
     try:
-        report = getattr(ms, FILTER)(**parameters)
+        report = getattr(ms, filter_name)(**parameters)
     except BaseException:
         _refused_mesh_sets.append(ms)
         scratch = pymeshlab.MeshSet()

@@ -231,7 +231,8 @@ def test_selectedonly_with_two_separate_regions_is_refused(ml):
         condselect="(x0 < 0.3 && x1 < 0.3 && x2 < 0.3) || (x0 > 0.7 && x1 > 0.7 && x2 > 0.7)")
     assert ms.current_mesh().selected_face_number() > 0
     expect_refused(ml, ms, "the mesh has 2 connected components; a patch must be one piece "
-                           "(select one component)", selectedonly=True)
+                           "(select one component, or use the atlas filter: Straightest "
+                           "Distances Atlas; --atlas in the CLI)", selectedonly=True)
 
 
 def test_selectedonly_with_a_ring_fills_its_hole(ml):

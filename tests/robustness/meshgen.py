@@ -365,11 +365,11 @@ if __name__ == "__main__":
 # The one-line reason each refused case must give, word for word, in every front end (CLI,
 # meshlabserver, pymeshlab); shared so that a change of wording is made once.
 REFUSED_REASONS = {
-    "closed": "the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first",
+    "closed": "the mesh is closed (it has no boundary); cut it open into a disk-shaped patch first, or use the atlas filter (Straightest Distances Atlas; --atlas in the CLI)",
     "two_components":
-        "the mesh has 2 connected components; a patch must be one piece (select one component)",
+        "the mesh has 2 connected components; a patch must be one piece (select one component, or use the atlas filter: Straightest Distances Atlas; --atlas in the CLI)",
     "bowtie":
-        "the mesh has 2 connected components; a patch must be one piece (select one component)",
+        "the mesh has 2 connected components; a patch must be one piece (select one component, or use the atlas filter: Straightest Distances Atlas; --atlas in the CLI)",
     "triangle_soup":
         "the mesh has 18 connected components: its faces share no edges (merge duplicate "
         "vertices first)",

@@ -348,7 +348,8 @@ CASES = {
                                          params={"selectedonly": "true"}, before=[SELECT_NONE]),
     "selected_two_regions": lambda s: s.refused(
         off("wavy"), "the mesh has 2 connected components; a patch must be one piece (select one "
-                     "component)", params={"selectedonly": "true"},
+                     "component, or use the atlas filter: Straightest Distances Atlas; --atlas in "
+                     "the CLI)", params={"selectedonly": "true"},
         before=[select_faces("(x0 < 0.3 && x1 < 0.3 && x2 < 0.3) || "
                              "(x0 > 0.7 && x1 > 0.7 && x2 > 0.7)")]),
     "selected_disk": case_selected_disk,

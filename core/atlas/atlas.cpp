@@ -1,0 +1,490 @@
+#include "atlas.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <new>
+#include <sstream>
+
+#include "charts.h"
+#include "core/connectivity.h"
+#include "core/error.h"
+#include "core/json.h"
+#include "core/metrics.h"
+#include "core/parallel.h"
+#include "core/parameterize.h"
+#include "core/storage.h"
+#include "core/work.h"
+#include "measure.h"
+#include "pack.h"
+
+namespace sdp::atlas {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A chart once flattened: its faces, and per face corner a row of its own texture coordinates
+// (natural scale, counter-clockwise as the faces run).
+struct Chart {
+  std::vector<int> faces;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<std::array<int, 3>> corner_row;  // per face of `faces`
+  ChartReport report;
+  double linear_work = 0, refine_work = 0;
+};
+
+// Work keys of the refinement stages (progress.h), the rest being the linear map's.
+bool isRefineStage(const std::string& key) {
+  return key == "refine" || key == "free_boundary" || key == "newton";
+}
+
+// One face alone, laid out with its own edge lengths; a zero-area face gets a right triangle
+// with legs `leg`, so it still covers a positive area.
+Chart singleFaceChart(const Positions& V, const Triangles& F, int f, bool zero_area, double leg) {
+  Chart chart;
+  chart.faces = {f};
+  chart.corner_row = {{0, 1, 2}};
+  const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+  if (zero_area) {
+    chart.uv = {{0, 0}, {leg, 0}, {0, leg}};
+  } else {
+    const double ab = (b - a).norm();
+    const Eigen::Vector3d e = (b - a) / ab;
+    const double x = (c - a).dot(e), y = ((c - a) - x * e).norm();
+    chart.uv = {{0, 0}, {ab, 0}, {x, y}};
+  }
+  chart.report.faces = 1;
+  chart.report.area = 0.5 * (b - a).cross(c - a).norm();
+  chart.report.l2_stretch = chart.report.linf_stretch = 1;
+  chart.report.boundary_used = zero_area ? "zero area" : "one face";
+  return chart;
+}
+
+// Flattens a disk-shaped face set by the patch pipeline; false when it refused.
+bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>& faces,
+                  const Options& options, Chart& chart, std::string& why) {
+  std::vector<int> local;
+  std::vector<int> input_vertex;
+  Triangles sub(faces.size(), 3);
+  {
+    std::vector<std::pair<int, int>> corners;  // (input vertex, corner)
+    corners.reserve(3 * faces.size());
+    for (size_t i = 0; i < faces.size(); ++i)
+      for (int k = 0; k < 3; ++k) corners.emplace_back(F(faces[i], k), static_cast<int>(3 * i + k));
+    std::sort(corners.begin(), corners.end());
+    for (size_t i = 0; i < corners.size(); ++i) {
+      if (i == 0 || corners[i].first != corners[i - 1].first)
+        input_vertex.push_back(corners[i].first);
+      sub(corners[i].second / 3, corners[i].second % 3) = static_cast<int>(input_vertex.size()) - 1;
+    }
+  }
+  Positions subV(input_vertex.size(), 3);
+  for (size_t v = 0; v < input_vertex.size(); ++v) subV.row(v) = V.row(input_vertex[v]);
+  try {
+    Result r = flattenDisk(subV, sub, options);
+    chart.faces = faces;
+    chart.uv.resize(input_vertex.size());
+    for (size_t v = 0; v < input_vertex.size(); ++v) chart.uv[v] = r.layout.uv.row(v).transpose();
+    chart.corner_row.resize(faces.size());
+    for (size_t i = 0; i < faces.size(); ++i)
+      for (int k = 0; k < 3; ++k) chart.corner_row[i][k] = sub(i, k);
+    chart.report.faces = static_cast<int>(faces.size());
+    chart.report.l2_stretch = r.report.l2_stretch;
+    chart.report.linf_stretch = r.report.linf_stretch;
+    chart.report.boundary_used = r.report.boundary_used;
+    chart.report.fallbacks = r.report.fallbacks;
+    for (const auto& [key, work] : r.report.stage_work)
+      (isRefineStage(key) ? chart.refine_work : chart.linear_work) += work;
+    for (int f : faces) {
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      chart.report.area += 0.5 * (b - a).cross(c - a).norm();
+    }
+    return true;
+  } catch (const ParameterizationError& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+void checkInput(const Positions& V, const Triangles& F, const AtlasOptions& options) {
+  if (F.rows() == 0) throw ParameterizationError("the mesh has no faces");
+  if (options.texture_size < 64 || options.texture_size > 16384)
+    throw ParameterizationError("texture size must be between 64 and 16384, got " +
+                                std::to_string(options.texture_size));
+  if (options.gutter < 0 || options.gutter > 64)
+    throw ParameterizationError("gutter must be between 0 and 64 texels, got " +
+                                std::to_string(options.gutter));
+  if (!(options.max_chart_stretch >= 1.0))
+    throw ParameterizationError("the chart stretch limit must be at least 1");
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = F(f, k);
+      if (v < 0 || v >= V.rows())
+        throw ParameterizationError("face " + std::to_string(f) + " has vertex index " +
+                                    std::to_string(v) + " out of range (the mesh has " +
+                                    std::to_string(V.rows()) + " vertices)");
+      if (!V.row(v).allFinite())
+        throw ParameterizationError("vertex " + std::to_string(v) +
+                                    " has a coordinate that is not finite");
+    }
+}
+
+// The pieces of the chartable faces joined across the graph's edges, in order of first face.
+std::vector<std::vector<int>> components(const FaceGraph& g) {
+  std::vector<std::vector<int>> pieces;
+  std::vector<char> seen(g.faceCount(), 0);
+  for (int start = 0; start < g.faceCount(); ++start) {
+    if (seen[start] || !g.chartable[start]) continue;
+    std::vector<int> piece = {start};
+    seen[start] = 1;
+    for (size_t i = 0; i < piece.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const int next = g.across[3 * piece[i] + k];
+        if (next >= 0 && !seen[next]) seen[next] = 1, piece.push_back(next);
+      }
+    std::sort(piece.begin(), piece.end());
+    pieces.push_back(std::move(piece));
+  }
+  return pieces;
+}
+
+class AtlasBuilder {
+ public:
+  AtlasBuilder(const Positions& V, const Triangles& F, const AtlasOptions& options)
+      : V_(V), F_(F), options_(options) {}
+
+  AtlasResult run() {
+    checkInput(V_, F_, options_);
+    report(0);
+    auto stage = Clock::now();
+    const Connectivity connectivity = analyzeConnectivity(F_, static_cast<int>(V_.rows()));
+    const FaceGraph graph = buildFaceGraph(V_, F_, connectivity);
+    AtlasReport& r = result_.report;
+    r.vertices = connectivity.vertices;
+    r.faces = connectivity.faces;
+    r.non_manifold_edges = connectivity.non_manifold_edges;
+    r.non_manifold_vertices = connectivity.non_manifold_vertices;
+    r.inconsistent_edges = connectivity.inconsistent_edges;
+    total_area_ = 0;
+    double edge_sum = 0;
+    int edge_count = 0;
+    for (int f = 0; f < graph.faceCount(); ++f) {
+      total_area_ += graph.area[f];
+      if (!graph.chartable[f]) continue;
+      for (int k = 0; k < 3; ++k)
+        edge_sum += (V_.row(F_(f, k)) - V_.row(F_(f, (k + 1) % 3))).norm(), ++edge_count;
+    }
+    if (edge_count == 0)
+      throw ParameterizationError("every face has zero area (no surface to flatten)");
+    const double mean_edge = edge_sum / edge_count;
+    r.stage_seconds.emplace_back("connectivity", secondsSince(stage));
+
+    stage = Clock::now();
+    for (int f = 0; f < graph.faceCount(); ++f)
+      if (!graph.chartable[f]) {
+        ++r.zero_area_faces;
+        charts_.push_back(singleFaceChart(V_, F_, f, true, mean_edge));
+      }
+    std::vector<std::vector<int>> pieces = components(graph);
+    r.components = static_cast<int>(pieces.size());
+    makeCharts(graph, std::move(pieces));
+    r.stage_seconds.emplace_back("charts", secondsSince(stage));
+
+    stage = Clock::now();
+    report(90);
+    packAndStore();
+    r.stage_seconds.emplace_back("pack_and_store", secondsSince(stage));
+    r.seconds = secondsSince(start_);
+    report(100);
+    return std::move(result_);
+  }
+
+ private:
+  // Calls the user's progress callback (on the calling thread only); a cancel is noted and
+  // thrown.
+  void report(int percent) {
+    const ProgressCallback& callback = options_.chart.progress;
+    if (callback && !callback("atlas", percent)) cancelled_ = true;
+    if (cancelled_) throw ParameterizationError("cancelled by the user");
+  }
+
+  // Charts: each piece that is not a disk is split; each disk is flattened, and split again when
+  // its stretch is above the limit or the patch pipeline refused it; one face is a chart alone.
+  void makeCharts(const FaceGraph& graph, std::vector<std::vector<int>> pending) {
+    std::vector<int> scratch(graph.faceCount(), kOutside);
+    AtlasReport& r = result_.report;
+    int charted_faces = 0;
+    while (!pending.empty()) {
+      std::vector<std::vector<int>> disks;
+      for (std::vector<int>& faces : pending) {
+        if (faces.size() == 1) {
+          charts_.push_back(singleFaceChart(V_, F_, faces[0], false, 0));
+          ++charted_faces;
+        } else if (regionIsDisk(graph, faces)) {
+          disks.push_back(std::move(faces));
+        } else {
+          for (std::vector<int>& part : splitFaces(graph, faces, 2, scratch))
+            disks.push_back(std::move(part));
+        }
+      }
+      pending.clear();
+      // Largest first, so the long ones start early.
+      std::stable_sort(disks.begin(), disks.end(),
+                       [](const auto& a, const auto& b) { return a.size() > b.size(); });
+      std::vector<Chart> flat(disks.size());
+      std::vector<char> ok(disks.size(), 0);
+      std::atomic<int> done_faces{charted_faces};
+      parallelForAlongside(
+          static_cast<int>(disks.size()), 1, [] {},
+          [&](int begin, int end, int worker) {
+            for (int i = begin; i < end; ++i) {
+              if (cancelled_) return;
+              std::string why;
+              ok[i] = flattenChart(V_, F_, disks[i], chartOptions(disks[i].size()), flat[i], why);
+              done_faces += static_cast<int>(disks[i].size());
+              if (worker == 0) report(5 + 80 * done_faces / std::max(result_.report.faces, 1));
+            }
+          });
+      if (cancelled_) throw ParameterizationError("cancelled by the user");
+      for (size_t i = 0; i < disks.size(); ++i) {
+        const bool good = ok[i] && flat[i].report.l2_stretch <= options_.max_chart_stretch;
+        if (good) {
+          charted_faces += static_cast<int>(disks[i].size());
+          charts_.push_back(std::move(flat[i]));
+          continue;
+        }
+        std::vector<std::vector<int>> parts = splitFaces(graph, disks[i], 2, scratch);
+        if (parts.size() < 2) {
+          // Cannot be split further: keep the flattened chart, or its faces one by one.
+          if (ok[i]) {
+            charted_faces += static_cast<int>(disks[i].size());
+            charts_.push_back(std::move(flat[i]));
+          } else {
+            for (int f : disks[i]) pending.push_back({f});
+          }
+          continue;
+        }
+        ++r.charts_split;
+        for (std::vector<int>& part : parts) pending.push_back(std::move(part));
+      }
+    }
+  }
+
+  // The patch pipeline's options for a chart of `faces` faces: one work floor for the whole
+  // atlas, shared by area (faces), not one per chart.
+  Options chartOptions(size_t faces) const {
+    Options o = options_.chart;
+    o.fit_unit_square = false;
+    o.storage = UVStorage::Double;
+    o.progress = [this](const char*, int) { return !cancelled_.load(); };
+    if (o.refine_min_work > 0)
+      o.refine_min_work *= static_cast<double>(faces) / std::max(result_.report.faces, 1);
+    return o;
+  }
+
+  void packAndStore() {
+    AtlasReport& r = result_.report;
+    // Each chart at the scale that minimizes the whole atlas's L2 (s^2 proportional to its L2
+    // times its 3D over UV area): the atlas's L2 is then the area-weighted mean of the charts'.
+    std::vector<ChartShape> shapes(charts_.size());
+    for (size_t c = 0; c < charts_.size(); ++c) {
+      const Chart& chart = charts_[c];
+      double uv_area = 0;
+      for (const auto& t : chart.corner_row) {
+        const Eigen::Vector2d a = chart.uv[t[0]], b = chart.uv[t[1]], d = chart.uv[t[2]];
+        uv_area += 0.5 * std::abs((b - a).x() * (d - a).y() - (b - a).y() * (d - a).x());
+      }
+      double scale = 1;
+      if (chart.report.area > 0 && uv_area > 0)
+        scale = std::sqrt(chart.report.l2_stretch * chart.report.area / uv_area);
+      shapes[c].uv.resize(chart.uv.size());
+      for (size_t v = 0; v < chart.uv.size(); ++v) shapes[c].uv[v] = chart.uv[v] * scale;
+      shapes[c].triangles = chart.corner_row;
+    }
+    PackOptions pack;
+    pack.texture_size = options_.texture_size;
+    pack.gutter = options_.gutter;
+    for (int attempt = 0;; ++attempt) {
+      const Packing packing = packCharts(shapes, pack);
+      Layout layout = packedLayout(shapes, packing);
+      StoragePolicy policy;
+      policy.precision = options_.storage;
+      const StorageCounts counts = store(layout, policy);
+      const PixelMeasures pixels =
+          measurePixels(layout, layout.chart, options_.texture_size, options_.gutter);
+      if (pixels.overlapping_pixels == 0 && pixels.gutter_violations == 0) {
+        r.texels_per_unit = packing.texels_per_unit;
+        r.storage = uvStorageName(options_.storage);
+        r.storage_degenerate_faces = counts.degenerate_faces;
+        r.storage_moved_vertices = counts.moved_vertices;
+        finish(std::move(layout));
+        return;
+      }
+      if (attempt == 2)
+        throw ParameterizationError(
+            "internal error: the packed charts overlap or break the gutter once stored (" +
+            std::to_string(pixels.overlapping_pixels) + " pixels covered twice, " +
+            std::to_string(pixels.gutter_violations) + " in a gutter)");
+      pack.shrink *= 0.97;
+    }
+  }
+
+  Layout packedLayout(const std::vector<ChartShape>& shapes, const Packing& packing) const {
+    Layout layout;
+    int rows = 0;
+    for (const Chart& chart : charts_) rows += static_cast<int>(chart.uv.size());
+    layout.uv.resize(rows, 2);
+    layout.face_uv.resize(F_.rows(), 3);
+    layout.chart.assign(F_.rows(), -1);
+    int offset = 0;
+    for (size_t c = 0; c < charts_.size(); ++c) {
+      const Chart& chart = charts_[c];
+      for (size_t v = 0; v < chart.uv.size(); ++v)
+        layout.uv.row(offset + v) =
+            packing.apply(static_cast<int>(c), shapes[c].uv[v], options_.texture_size).transpose();
+      for (size_t i = 0; i < chart.faces.size(); ++i) {
+        const int f = chart.faces[i];
+        for (int k = 0; k < 3; ++k) layout.face_uv(f, k) = offset + chart.corner_row[i][k];
+        layout.chart[f] = static_cast<int>(c);
+      }
+      offset += static_cast<int>(chart.uv.size());
+    }
+    return layout;
+  }
+
+  void finish(Layout layout) {
+    AtlasReport& r = result_.report;
+    const StretchMetrics stretch = layoutStretch(V_, F_, layout);
+    if (stretch.flipped_faces > 0)
+      throw ParameterizationError("internal error: the stored atlas has flipped faces");
+    const AtlasMeasures measures = measureAtlas(V_, F_, layout, 0, 0);
+    r.charts = static_cast<int>(charts_.size());
+    r.seam = measures.seam;
+    r.packing_efficiency = measures.efficiency;
+    r.l2_stretch = stretch.l2;
+    r.linf_stretch = stretch.linf;
+    r.flipped_faces = stretch.flipped_faces;
+    r.overlapping_charts = 0;  // store() certified that no two charts' borders cross
+    r.texture_size = options_.texture_size;
+    r.gutter = options_.gutter;
+    double linear = 0, refine = 0;
+    for (const Chart& chart : charts_) {
+      r.chart_table.push_back(chart.report);
+      r.chart_fallbacks += chart.report.fallbacks;
+      linear += chart.linear_work;
+      refine += chart.refine_work;
+    }
+    r.refinement_work = linear > 0 ? refine / linear : 0;
+    if (measures.charts != r.charts)
+      r.notes.push_back(std::to_string(r.charts) + " charts are " +
+                        std::to_string(measures.charts) +
+                        " pieces by their stored texture coordinates");
+    result_.face_stretch = stretch.face_l2;
+    result_.layout = std::move(layout);
+  }
+
+  const Positions& V_;
+  const Triangles& F_;
+  const AtlasOptions& options_;
+  const Clock::time_point start_ = Clock::now();
+  AtlasResult result_;
+  std::vector<Chart> charts_;
+  double total_area_ = 0;
+  std::atomic<bool> cancelled_{false};
+};
+
+}  // namespace
+
+AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions& options) {
+  try {
+    return AtlasBuilder(V, F, options).run();
+  } catch (const std::bad_alloc&) {
+    throw ParameterizationError("not enough memory to make an atlas of a mesh of " +
+                                std::to_string(V.rows()) + " vertices and " +
+                                std::to_string(F.rows()) + " faces");
+  }
+}
+
+const std::vector<AtlasSummaryField>& atlasSummaryFields() {
+  using R = const AtlasReport&;
+  static const std::vector<AtlasSummaryField> fields = {
+      {"charts", "number of charts", true, "%.0f", [](R r) { return double(r.charts); }},
+      {"seam", "3D length of the cut edges over the square root of the 3D area", false, "%.2f",
+       [](R r) { return r.seam; }},
+      {"packing_efficiency", "UV area over the unit square", false, "%.3f",
+       [](R r) { return r.packing_efficiency; }},
+      {"l2_stretch", "Sander L2 stretch over the whole atlas (1 = isometric)", false, "%.4f",
+       [](R r) { return r.l2_stretch; }},
+      {"linf_stretch", "Sander L-infinity stretch (worst face)", false, "%.3f",
+       [](R r) { return r.linf_stretch; }},
+      {"flipped_faces", "faces flipped or degenerate as stored (always 0)", true, "%.0f",
+       [](R r) { return double(r.flipped_faces); }},
+      {"overlapping_charts", "charts overlapping another as stored (always 0)", true, "%.0f",
+       [](R r) { return double(r.overlapping_charts); }},
+      {"seconds", "wall time of the atlas (no file I/O)", false, "%.2f",
+       [](R r) { return r.seconds; }},
+  };
+  return fields;
+}
+
+std::string AtlasReport::toJson() const {
+  using namespace json;
+  std::vector<std::pair<std::string, std::string>> m;
+  for (const AtlasSummaryField& field : atlasSummaryFields()) {
+    const double value = field.number(*this);
+    m.emplace_back(field.key, field.integer ? jsonInt(static_cast<int>(value)) : jsonNumber(value));
+  }
+  const std::vector<std::pair<std::string, std::string>> rest = {
+      {"vertices", jsonInt(vertices)},
+      {"faces", jsonInt(faces)},
+      {"components", jsonInt(components)},
+      {"texels_per_unit", jsonNumber(texels_per_unit)},
+      {"texture_size", jsonInt(texture_size)},
+      {"gutter", jsonInt(gutter)},
+      {"non_manifold_edges", jsonInt(non_manifold_edges)},
+      {"non_manifold_vertices", jsonInt(non_manifold_vertices)},
+      {"inconsistent_edges", jsonInt(inconsistent_edges)},
+      {"zero_area_faces", jsonInt(zero_area_faces)},
+      {"chart_fallbacks", jsonInt(chart_fallbacks)},
+      {"charts_split", jsonInt(charts_split)},
+      {"refinement_work", jsonNumber(refinement_work)},
+      {"storage", jsonString(storage)},
+      {"storage_degenerate_faces", jsonInt(storage_degenerate_faces)},
+      {"storage_moved_vertices", jsonInt(storage_moved_vertices)},
+  };
+  m.insert(m.end(), rest.begin(), rest.end());
+  std::vector<std::pair<std::string, std::string>> stages;
+  for (const auto& [stage, seconds] : stage_seconds)
+    stages.emplace_back(stage, jsonNumber(seconds));
+  m.emplace_back("stage_seconds", jsonObject(stages));
+  m.emplace_back("warnings", jsonList(warnings, jsonString));
+  m.emplace_back("notes", jsonList(notes, jsonString));
+  std::string table = "[";
+  for (size_t c = 0; c < chart_table.size(); ++c) {
+    const ChartReport& t = chart_table[c];
+    table += std::string(c ? ",\n    " : "\n    ") +
+             jsonObject({{"faces", jsonInt(t.faces)},
+                         {"area", jsonNumber(t.area)},
+                         {"l2_stretch", jsonNumber(t.l2_stretch)},
+                         {"linf_stretch", jsonNumber(t.linf_stretch)},
+                         {"boundary_used", jsonString(t.boundary_used)},
+                         {"fallbacks", jsonInt(t.fallbacks)}});
+  }
+  table += chart_table.empty() ? "]" : "\n  ]";
+  m.emplace_back("chart_table", table);
+  std::ostringstream o;
+  o << "{\n";
+  for (size_t i = 0; i < m.size(); ++i)
+    o << "  " << jsonString(m[i].first) << ": " << m[i].second << (i + 1 < m.size() ? ",\n" : "\n");
+  o << "}\n";
+  return o.str();
+}
+
+}  // namespace sdp::atlas

@@ -1,0 +1,91 @@
+// The atlas: any triangle mesh in (closed, any genus, many pieces, non-manifold, inconsistently
+// oriented), one packed texture layout out (docs/method.md §7):
+//   connectivity   half-edges, components, non-manifold elements (connectivity.h), reported
+//   charts         disk-shaped charts grown on the faces (charts.h), split until each flattens
+//                  with low stretch
+//   flatten        every chart by the patch pipeline (flattenDisk: straightest weights, measured
+//                  boundary, refinement), in parallel, under one work budget for the whole atlas
+//   pack           all charts at one texel density into [0,1]^2 with a gutter (pack.h)
+//   store          rounded to the front end's storage, repaired, certified (storage.h), and the
+//                  gutter checked on the stored values (measure.h)
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/layout.h"
+#include "core/options.h"
+
+namespace sdp::atlas {
+
+// What the user chooses. `chart` carries the patch pipeline's choices for every chart (weights,
+// boundary, refinement steps, progress callback); its fit_unit_square and storage are ignored.
+struct AtlasOptions {
+  Options chart = productDefaults();
+  int texture_size = 2048;  // texels on a side
+  int gutter = 2;           // texels kept free between charts
+  // A chart whose L2 stretch, flattened, is above this is split in two (1 + this is what the
+  // user asks: lower means more, smaller charts).
+  double max_chart_stretch = 1.03;
+  UVStorage storage = UVStorage::Double;
+};
+
+struct ChartReport {
+  int faces = 0;
+  double area = 0;  // 3D
+  double l2_stretch = 0, linf_stretch = 0;
+  std::string boundary_used;  // the patch pipeline's boundary ("measured", "circle", ...)
+  int fallbacks = 0;
+};
+
+struct AtlasReport {
+  int vertices = 0, faces = 0;
+  int components = 0;  // pieces joined across manifold, consistently oriented edges
+  int charts = 0;
+  double seam = 0;                // 3D length of cut edges / sqrt(3D area)
+  double packing_efficiency = 0;  // UV area over the unit square
+  double texels_per_unit = 0;     // one texel density for every chart
+  int texture_size = 0, gutter = 0;
+  double l2_stretch = 0, linf_stretch = 0;                // whole atlas, one normalization
+  int flipped_faces = 0;                                  // 0: certified as stored
+  int overlapping_charts = 0;                             // 0: certified as stored
+  int non_manifold_edges = 0, non_manifold_vertices = 0;  // split inside the core
+  int inconsistent_edges = 0;                             // edges where orientation flips: cut
+  int zero_area_faces = 0;                                // charted alone, left out of the stretch
+  int chart_fallbacks = 0;  // the patch pipeline's fallbacks, over all charts
+  int charts_split = 0;     // charts refined into smaller ones for stretch or disk shape
+  std::string storage = "double";
+  int storage_degenerate_faces = 0, storage_moved_vertices = 0;
+  double refinement_work = 0;  // over all charts, as a multiple of their linear maps' work
+  double seconds = 0;
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  std::vector<std::string> warnings, notes;
+  std::vector<ChartReport> chart_table;
+
+  std::string toJson() const;
+};
+
+// The summary rows of the atlas report: the pymeshlab dict, the log's summary line and the first
+// keys of the JSON report, in this order.
+struct AtlasSummaryField {
+  const char* key;
+  const char* meaning;  // for the README
+  bool integer;
+  const char* log_format;  // printf format of the value in the log line
+  double (*number)(const AtlasReport&);
+};
+const std::vector<AtlasSummaryField>& atlasSummaryFields();
+
+struct AtlasResult {
+  Layout layout;                     // per corner, seams split; layout.chart per face
+  std::vector<double> face_stretch;  // per face, normalized L2 over the whole atlas
+  AtlasReport report;
+};
+
+// Throws ParameterizationError with a one-line reason (no faces, a coordinate not finite, an
+// index out of range, charts that do not fit the texture, cancelled by the user); a returned
+// atlas is certified as stored: no flipped face, no chart overlapping another, every gutter kept.
+AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions& options = {});
+
+}  // namespace sdp::atlas

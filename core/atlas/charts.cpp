@@ -1,0 +1,291 @@
+#include "charts.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+namespace sdp::atlas {
+namespace {
+
+struct Candidate {
+  double cost;
+  int face, region;
+  double walked;
+  // A min-heap with ties broken by face then region: the same growth on every run.
+  bool operator>(const Candidate& o) const {
+    if (cost != o.cost) return cost > o.cost;
+    if (face != o.face) return face > o.face;
+    return region > o.region;
+  }
+};
+using CandidateQueue =
+    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>>;
+
+// Growth of disk-shaped regions over a face list (charts.h).
+class Grower {
+ public:
+  Grower(const FaceGraph& graph, std::vector<int>& region, double compactness, double length)
+      : g_(graph),
+        F_(*graph.F),
+        region_(region),
+        compactness_(compactness),
+        length_(std::max(length, 1e-300)) {}
+
+  void seed(int face, int id) {
+    region_[face] = id;
+    if (id >= static_cast<int>(normal_sum_.size()))
+      normal_sum_.resize(id + 1, Eigen::Vector3d::Zero());
+    normal_sum_[id] += g_.area[face] * g_.normal[face];
+    if (normal_sum_[id].squaredNorm() == 0) normal_sum_[id] = g_.normal[face];
+    pushNeighbours(face, id, 0);
+  }
+
+  void run() {
+    while (!queue_.empty()) {
+      const Candidate c = queue_.top();
+      queue_.pop();
+      if (region_[c.face] != kUnassigned) continue;
+      // The region's mean normal moved since this was queued: queue again at the new cost
+      // when another candidate is now cheaper.
+      const double now = cost(c.face, c.region, c.walked);
+      if (now > c.cost && !queue_.empty() && now > queue_.top().cost) {
+        queue_.push({now, c.face, c.region, c.walked});
+        continue;
+      }
+      if (!keepsDisk(c.face, c.region)) continue;
+      region_[c.face] = c.region;
+      normal_sum_[c.region] += g_.area[c.face] * g_.normal[c.face];
+      pushNeighbours(c.face, c.region, c.walked);
+    }
+  }
+
+ private:
+  double cost(int face, int id, double walked) const {
+    const Eigen::Vector3d n = normal_sum_[id].normalized();
+    return (1.0 - g_.normal[face].dot(n)) + compactness_ * walked / length_;
+  }
+
+  void pushNeighbours(int face, int id, double walked) {
+    for (int k = 0; k < 3; ++k) {
+      const int next = g_.across[3 * face + k];
+      if (next < 0 || region_[next] != kUnassigned) continue;
+      const double w = walked + (g_.centroid[next] - g_.centroid[face]).norm();
+      queue_.push({cost(next, id, w), next, id, w});
+    }
+  }
+
+  bool vertexIn(int v, int id) const {
+    for (int k = g_.vertex_face_begin[v]; k < g_.vertex_face_begin[v + 1]; ++k)
+      if (region_[g_.vertex_face[k]] == id) return true;
+    return false;
+  }
+  bool edgeIn(int a, int b, int id) const {
+    for (int k = g_.vertex_face_begin[a]; k < g_.vertex_face_begin[a + 1]; ++k) {
+      const int f = g_.vertex_face[k];
+      if (region_[f] == id && (F_(f, 0) == b || F_(f, 1) == b || F_(f, 2) == b)) return true;
+    }
+    return false;
+  }
+
+  // The region stays a disk with `face` added: it shares one edge and brings a new vertex, or
+  // shares two edges and its third edge is not yet the region's (which would close a loop).
+  bool keepsDisk(int face, int id) const {
+    int shared = 0, mask = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int other = g_.across[3 * face + k];
+      if (other >= 0 && region_[other] == id) ++shared, mask |= 1 << k;
+    }
+    if (shared == 1) {
+      const int k = mask == 1 ? 0 : mask == 2 ? 1 : 2;
+      return !vertexIn(F_(face, (k + 2) % 3), id);
+    }
+    if (shared == 2) {
+      const int k = mask == 6 ? 0 : mask == 5 ? 1 : 2;  // the edge not shared
+      return !edgeIn(F_(face, k), F_(face, (k + 1) % 3), id);
+    }
+    return false;
+  }
+
+  const FaceGraph& g_;
+  const Triangles& F_;
+  std::vector<int>& region_;
+  double compactness_, length_;
+  std::vector<Eigen::Vector3d> normal_sum_;
+  CandidateQueue queue_;
+};
+
+// Dual-graph distances (centroid to centroid across shared edges) from `sources` over the faces
+// of the list, which `region` marks with `id`; other faces stay at infinity.
+void faceDistances(const FaceGraph& g, const std::vector<int>& region, int id,
+                   const std::vector<int>& sources, std::vector<double>& distance) {
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (int s : sources) {
+    distance[s] = 0;
+    queue.push({0.0, s});
+  }
+  while (!queue.empty()) {
+    const auto [d, f] = queue.top();
+    queue.pop();
+    if (d > distance[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int next = g.across[3 * f + k];
+      if (next < 0 || region[next] != id) continue;
+      const double nd = d + (g.centroid[next] - g.centroid[f]).norm();
+      if (nd < distance[next]) {
+        distance[next] = nd;
+        queue.push({nd, next});
+      }
+    }
+  }
+}
+
+}  // namespace
+
+FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c) {
+  FaceGraph g;
+  g.F = &F;
+  const int faces = static_cast<int>(F.rows());
+  g.normal.resize(faces);
+  g.centroid.resize(faces);
+  g.area.resize(faces);
+  g.chartable.resize(faces);
+  double total_area = 0;
+  for (int f = 0; f < faces; ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), d = V.row(F(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(d - a);
+    g.area[f] = 0.5 * n.norm();
+    total_area += g.area[f];
+    g.centroid[f] = (a + b + d) / 3;
+    g.normal[f] = g.area[f] > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
+  }
+  // Zero area: below a millionth of a millionth of the mean face, where a normal means nothing.
+  const double tiny = 1e-12 * total_area / std::max(faces, 1);
+  for (int f = 0; f < faces; ++f) {
+    const bool repeated = F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 0) == F(f, 2);
+    g.chartable[f] = !repeated && g.area[f] > tiny;
+  }
+  g.across.assign(3 * static_cast<size_t>(faces), -1);
+  for (int h = 0; h < 3 * faces; ++h) {
+    const int t = c.twin[h];
+    if (t < 0 || !g.chartable[h / 3] || !g.chartable[t / 3]) continue;
+    // Consistent orientation: the twin runs the opposite way.
+    const int from = F(h / 3, h % 3), to = F(h / 3, (h % 3 + 1) % 3);
+    if (F(t / 3, t % 3) == to && F(t / 3, (t % 3 + 1) % 3) == from) g.across[h] = t / 3;
+  }
+  int vertices = 0;
+  for (int f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) vertices = std::max(vertices, F(f, k) + 1);
+  g.vertex_face_begin.assign(vertices + 1, 0);
+  for (int f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k)
+      if (k == 0 || F(f, k) != F(f, k - 1)) ++g.vertex_face_begin[F(f, k) + 1];
+  for (int v = 0; v < vertices; ++v) g.vertex_face_begin[v + 1] += g.vertex_face_begin[v];
+  g.vertex_face.resize(g.vertex_face_begin[vertices]);
+  std::vector<int> fill(g.vertex_face_begin.begin(), g.vertex_face_begin.end() - 1);
+  for (int f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k)
+      if (k == 0 || F(f, k) != F(f, k - 1)) g.vertex_face[fill[F(f, k)]++] = f;
+  return g;
+}
+
+int growRegions(const FaceGraph& graph, const std::vector<int>& faces,
+                const std::vector<int>& seeds, int first_id, double compactness, double length,
+                std::vector<int>& region) {
+  Grower grower(graph, region, compactness, length);
+  int id = first_id;
+  // All seeds grow at once from one queue, so they compete for faces; what none could take
+  // seeds new regions, one at a time.
+  for (int s : seeds) grower.seed(s, id++);
+  grower.run();
+  for (int f : faces)
+    if (region[f] == kUnassigned) {
+      grower.seed(f, id++);
+      grower.run();
+    }
+  return id - first_id;
+}
+
+std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vector<int>& faces,
+                                         int parts, std::vector<int>& region) {
+  constexpr int kMarked = -3;
+  constexpr int kLloydSteps = 2;
+  constexpr double kCompactness = 0.25;
+  std::vector<std::vector<int>> result;
+  if (faces.empty()) return result;
+  double area = 0;
+  for (int f : faces) area += graph.area[f];
+  const double length = std::sqrt(area / std::max(parts, 1));
+
+  // Seeds far apart along the surface: farthest-point sampling from the first face.
+  for (int f : faces) region[f] = kMarked;
+  std::vector<double> distance(graph.faceCount(), std::numeric_limits<double>::infinity());
+  std::vector<int> seeds;
+  {
+    faceDistances(graph, region, kMarked, {faces.front()}, distance);
+    auto farthest = [&] {
+      int best = faces.front();
+      for (int f : faces)
+        if (std::isfinite(distance[f]) && distance[f] > distance[best]) best = f;
+      return best;
+    };
+    seeds.push_back(farthest());
+    for (int f : faces) distance[f] = std::numeric_limits<double>::infinity();
+    faceDistances(graph, region, kMarked, seeds, distance);
+    while (static_cast<int>(seeds.size()) < parts) {
+      const int next = farthest();
+      if (distance[next] == 0) break;
+      seeds.push_back(next);
+      faceDistances(graph, region, kMarked, {next}, distance);
+    }
+  }
+
+  int made = 0;
+  for (int step = 0;; ++step) {
+    for (int f : faces) region[f] = kUnassigned;
+    made = growRegions(graph, faces, seeds, 0, kCompactness, length, region);
+    if (step == kLloydSteps) break;
+    // Each part's most typical face: close to its mean normal and to its centroid.
+    const int n = static_cast<int>(seeds.size());
+    std::vector<Eigen::Vector3d> normal(n, Eigen::Vector3d::Zero()),
+        centre(n, Eigen::Vector3d::Zero());
+    std::vector<double> part_area(n, 0.0);
+    for (int f : faces)
+      if (region[f] < n) {
+        normal[region[f]] += graph.area[f] * graph.normal[f];
+        centre[region[f]] += graph.area[f] * graph.centroid[f];
+        part_area[region[f]] += graph.area[f];
+      }
+    std::vector<double> best(n, -std::numeric_limits<double>::infinity());
+    for (int f : faces) {
+      const int p = region[f];
+      if (p >= n || part_area[p] <= 0) continue;
+      const double score =
+          graph.normal[f].dot(normal[p].normalized()) -
+          kCompactness * (graph.centroid[f] - centre[p] / part_area[p]).norm() / length;
+      if (score > best[p]) best[p] = score, seeds[p] = f;
+    }
+  }
+  result.resize(made);
+  for (int f : faces) result[region[f]].push_back(f);
+  for (int f : faces) region[f] = kOutside;
+  return result;
+}
+
+bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces) {
+  const Triangles& F = *graph.F;
+  std::vector<int> local(graph.vertex_face_begin.size(), -1);
+  Triangles sub(faces.size(), 3);
+  int vertices = 0;
+  for (size_t i = 0; i < faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      int& l = local[F(faces[i], k)];
+      if (l < 0) l = vertices++;
+      sub(i, k) = l;
+    }
+  return analyzeConnectivity(sub, vertices).isDisk();
+}
+
+}  // namespace sdp::atlas

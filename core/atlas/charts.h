@@ -1,0 +1,64 @@
+// Charts: a triangle mesh of any topology cut into disk-shaped pieces (docs/method.md §7). The
+// cut works on faces joined across edges that have exactly two faces running opposite ways
+// (connectivity.h), so a chart never crosses a non-manifold edge or an orientation flip: those
+// are split here, inside the core, and the user's mesh is not touched.
+//
+// Charts are grown face by face from seeds, and a face joins a chart only when the chart stays a
+// topological disk: it shares one edge with the chart and brings a new vertex, or it shares two
+// edges and fills a notch. So every chart is a disk by construction (one boundary loop, no
+// handle, no pinched vertex), whatever the mesh's genus or pieces.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/connectivity.h"
+#include "core/layout.h"
+
+namespace sdp::atlas {
+
+// What growing needs per face and per vertex.
+struct FaceGraph {
+  const Triangles* F = nullptr;
+  std::vector<Eigen::Vector3d> normal;    // unit, zero for a zero-area face
+  std::vector<Eigen::Vector3d> centroid;  //
+  std::vector<double> area;
+  // Per half-edge 3 f + k: the face across that edge when the two faces may share a chart (a
+  // two-face edge, consistently oriented), else -1.
+  std::vector<int> across;
+  // Faces a chart can hold: three distinct vertices and a positive area. The others (repeated
+  // vertex, zero area) get a chart of their own.
+  std::vector<char> chartable;
+  // Faces around each vertex (CSR).
+  std::vector<int> vertex_face_begin, vertex_face;
+
+  int faceCount() const { return static_cast<int>(area.size()); }
+};
+
+FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c);
+
+// Per face a region id, or one of these.
+constexpr int kUnassigned = -1;  // may be grown into
+constexpr int kOutside = -2;     // not part of the faces being split
+
+// Grows a region from each seed (ids first_id, first_id + 1, ...) into the faces of the list
+// that `region` marks kUnassigned, each region kept a disk; faces no region could take seed new
+// regions until none is left. Growth prefers faces whose normal is close to the region's mean
+// normal, and `compactness` weighs the distance walked from the seed (in units of `length`).
+// Returns the number of regions made.
+int growRegions(const FaceGraph& graph, const std::vector<int>& faces,
+                const std::vector<int>& seeds, int first_id, double compactness, double length,
+                std::vector<int>& region);
+
+// Splits the faces of the list into `parts` (at least 2) disk-shaped pieces, seeded far apart
+// along the surface and improved by a few Lloyd steps (each seed moved to the most typical face
+// of its piece). More pieces than asked come back when growth left faces over. `region` is
+// scratch of one entry per face, kOutside on entry and on return.
+std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vector<int>& faces,
+                                         int parts, std::vector<int>& region);
+
+// True when the faces form a disk (one consistently oriented manifold piece with
+// one boundary loop and Euler characteristic 1).
+bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& region_faces);
+
+}  // namespace sdp::atlas

@@ -1,0 +1,191 @@
+#include "measure.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/metrics.h"
+#include "raster.h"
+
+namespace sdp::atlas {
+namespace {
+
+class DisjointSets {
+ public:
+  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  int find(int x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void join(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+// The mesh's edges as groups of half-edges h = 3 f + k (corner k to k + 1), sorted by end points.
+struct EdgeGroups {
+  std::vector<int> half_edges;  // grouped
+  std::vector<int> begin;       // group g: half_edges[begin[g] .. begin[g + 1])
+};
+EdgeGroups edgeGroups(const Triangles& F) {
+  const int faces = static_cast<int>(F.rows());
+  struct Key {
+    int low, high, h;
+  };
+  std::vector<Key> keys;
+  keys.reserve(3 * static_cast<size_t>(faces));
+  for (int f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      if (a != b) keys.push_back({std::min(a, b), std::max(a, b), 3 * f + k});
+    }
+  std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
+    return x.low != y.low ? x.low < y.low : x.high != y.high ? x.high < y.high : x.h < y.h;
+  });
+  EdgeGroups groups;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (i == 0 || keys[i].low != keys[i - 1].low || keys[i].high != keys[i - 1].high)
+      groups.begin.push_back(static_cast<int>(i));
+    groups.half_edges.push_back(keys[i].h);
+  }
+  groups.begin.push_back(static_cast<int>(keys.size()));
+  return groups;
+}
+
+// The UV of the corner of face h / 3 at vertex v.
+Eigen::RowVector2d cornerAt(const Triangles& F, const Layout& layout, int f, int v) {
+  for (int k = 0; k < 3; ++k)
+    if (F(f, k) == v) return layout.corner(f, k);
+  return layout.corner(f, 0);
+}
+
+// Both sides of the edge (a, b) carry the same UVs in faces f and g.
+bool sameSides(const Triangles& F, const Layout& layout, int f, int g, int a, int b) {
+  return cornerAt(F, layout, f, a) == cornerAt(F, layout, g, a) &&
+         cornerAt(F, layout, f, b) == cornerAt(F, layout, g, b);
+}
+
+}  // namespace
+
+std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* count) {
+  const int faces = static_cast<int>(F.rows());
+  const EdgeGroups groups = edgeGroups(F);
+  DisjointSets sets(faces);
+  for (size_t g = 0; g + 1 < groups.begin.size(); ++g)
+    for (int i = groups.begin[g]; i < groups.begin[g + 1]; ++i)
+      for (int j = i + 1; j < groups.begin[g + 1]; ++j) {
+        const int hi = groups.half_edges[i], hj = groups.half_edges[j];
+        const int a = F(hi / 3, hi % 3), b = F(hi / 3, (hi % 3 + 1) % 3);
+        if (sameSides(F, layout, hi / 3, hj / 3, a, b)) sets.join(hi / 3, hj / 3);
+      }
+  std::vector<int> chart(faces), number(faces, -1);
+  int charts = 0;
+  for (int f = 0; f < faces; ++f) {
+    const int root = sets.find(f);
+    if (number[root] < 0) number[root] = charts++;
+    chart[f] = number[root];
+  }
+  if (count) *count = charts;
+  return chart;
+}
+
+PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart, int size,
+                            int gutter) {
+  PixelMeasures m;
+  if (size <= 0) return m;
+  constexpr int kEmpty = -1, kShared = -2;
+  std::vector<int> owner(static_cast<size_t>(size) * size, kEmpty);
+  std::vector<unsigned char> covers(static_cast<size_t>(size) * size, 0);
+  for (int f = 0; f < layout.faceCount(); ++f) {
+    Eigen::Vector2d p[3];
+    for (int k = 0; k < 3; ++k) p[k] = (layout.corner(f, k) * size).transpose();
+    const int c = chart.empty() ? 0 : chart[f];
+    coveredPixels(p, size, size, [&](int x, int y) {
+      const size_t i = static_cast<size_t>(y) * size + x;
+      if (covers[i] < 255) ++covers[i];
+      owner[i] = owner[i] == kEmpty || owner[i] == c ? c : kShared;
+    });
+  }
+  for (unsigned char c : covers) m.overlapping_pixels += c >= 2;
+  const int reach = gutter - 1;
+  if (reach <= 0) return m;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const int c = owner[static_cast<size_t>(y) * size + x];
+      if (c == kEmpty) continue;
+      bool violated = c == kShared;
+      for (int dy = -reach; dy <= reach && !violated; ++dy)
+        for (int dx = -reach; dx <= reach && !violated; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
+          const int o = owner[static_cast<size_t>(ny) * size + nx];
+          violated = o != kEmpty && o != c;
+        }
+      m.gutter_violations += violated;
+    }
+  return m;
+}
+
+AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout& layout,
+                           int texture_size, int gutter) {
+  AtlasMeasures m;
+  const int faces = static_cast<int>(F.rows());
+  m.chart = chartsByUVs(F, layout, &m.charts);
+
+  // Seam and 3D area.
+  double area3d = 0;
+  for (int f = 0; f < faces; ++f) {
+    const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    area3d += 0.5 * (b - a).cross(c - a).norm();
+  }
+  const EdgeGroups groups = edgeGroups(F);
+  double seam = 0;
+  for (size_t g = 0; g + 1 < groups.begin.size(); ++g) {
+    const int first = groups.begin[g], last = groups.begin[g + 1];
+    if (last - first < 2) continue;  // the mesh's own boundary
+    const int h0 = groups.half_edges[first];
+    const int a = F(h0 / 3, h0 % 3), b = F(h0 / 3, (h0 % 3 + 1) % 3);
+    bool cut = false;
+    for (int i = first + 1; i < last && !cut; ++i)
+      cut = !sameSides(F, layout, h0 / 3, groups.half_edges[i] / 3, a, b);
+    if (cut) seam += (V.row(a) - V.row(b)).norm();
+  }
+  m.seam = area3d > 0 ? seam / std::sqrt(area3d) : 0;
+
+  // Orientation per chart, flips, stretch: one normalization over the atlas.
+  Layout charted = layout;
+  charted.chart = m.chart;
+  const StretchMetrics stretch = layoutStretch(V, F, charted);
+  m.l2 = stretch.l2;
+  m.linf = stretch.linf;
+  m.flipped_faces = stretch.flipped_faces;
+  std::vector<double> chart_area(m.charts, 0.0);
+  double uv_area = 0;
+  for (int f = 0; f < faces; ++f) {
+    const Eigen::RowVector2d p = layout.corner(f, 0), q = layout.corner(f, 1),
+                             r = layout.corner(f, 2);
+    const double signed_area = 0.5 * ((q - p).x() * (r - p).y() - (q - p).y() * (r - p).x());
+    chart_area[m.chart[f]] += signed_area;
+    uv_area += std::abs(signed_area);
+    bool outside = false;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::RowVector2d c = layout.corner(f, k);
+      outside |= !(c.x() >= 0 && c.x() <= 1 && c.y() >= 0 && c.y() <= 1);
+    }
+    m.outside_faces += outside;
+  }
+  for (double a : chart_area) m.mirrored_charts += a < 0;
+  m.efficiency = uv_area;
+  const PixelMeasures pixels = measurePixels(layout, m.chart, texture_size, gutter);
+  m.overlapping_pixels = pixels.overlapping_pixels;
+  m.gutter_violations = pixels.gutter_violations;
+  return m;
+}
+
+}  // namespace sdp::atlas

@@ -1,0 +1,354 @@
+#include "pack.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "core/error.h"
+#include "raster.h"
+
+namespace sdp::atlas {
+namespace {
+
+double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+}
+
+// Andrew's monotone chain: the convex hull, counter-clockwise.
+std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points) {
+  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+  });
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() < 3) return points;
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0) --k;
+    hull[k++] = points[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+Eigen::Matrix2d rotationBy(double angle) {
+  Eigen::Matrix2d r;
+  r << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  return r;
+}
+
+// The rotation that lays the chart's smallest bounding rectangle (one side on a hull edge) with
+// its long side along x.
+Eigen::Matrix2d smallestBoxRotation(const std::vector<Eigen::Vector2d>& uv) {
+  const std::vector<Eigen::Vector2d> hull = convexHull(uv);
+  double best_area = std::numeric_limits<double>::infinity();
+  Eigen::Matrix2d best = Eigen::Matrix2d::Identity();
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d e = hull[(i + 1) % hull.size()] - hull[i];
+    if (e.squaredNorm() == 0) continue;
+    const Eigen::Matrix2d r = rotationBy(-std::atan2(e.y(), e.x()));
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+    Eigen::Vector2d high = -low;
+    for (const Eigen::Vector2d& p : hull) {
+      const Eigen::Vector2d q = r * p;
+      low = low.cwiseMin(q), high = high.cwiseMax(q);
+    }
+    const Eigen::Vector2d size = high - low;
+    if (size.x() * size.y() < best_area * (1 - 1e-9)) {
+      best_area = size.x() * size.y();
+      best = size.x() >= size.y() ? r : Eigen::Matrix2d(rotationBy(M_PI / 2) * r);
+    }
+  }
+  return best;
+}
+
+const Eigen::Matrix2d& quarterTurn(int q) {
+  static const Eigen::Matrix2d turns[4] = {(Eigen::Matrix2d() << 1, 0, 0, 1).finished(),
+                                           (Eigen::Matrix2d() << 0, -1, 1, 0).finished(),
+                                           (Eigen::Matrix2d() << -1, 0, 0, -1).finished(),
+                                           (Eigen::Matrix2d() << 0, 1, -1, 0).finished()};
+  return turns[q];
+}
+
+// Cell runs [low, high] per column, sorted and disjoint.
+using Runs = std::vector<std::pair<int, int>>;
+
+// A chart at one scale and turn, as the packer sees it: per cell column the runs of cells it
+// touches, and the runs of those cells grown by the gutter (the columns reach further out too).
+struct Footprint {
+  int width = 0, height = 0;  // cells, without the gutter
+  int reach = 0;              // gutter - 1
+  Eigen::Vector2d base;       // the cell grid's origin in the turned, scaled frame
+  std::vector<Runs> cells;    // per column [0, width)
+  std::vector<Runs> grown;    // per column [-reach, width + reach), shifted by reach
+};
+
+Runs runsOf(const std::vector<char>& column) {
+  Runs runs;
+  for (int y = 0; y < static_cast<int>(column.size()); ++y)
+    if (column[y]) {
+      if (!runs.empty() && runs.back().second == y - 1)
+        runs.back().second = y;
+      else
+        runs.emplace_back(y, y);
+    }
+  return runs;
+}
+
+// The cells a chart touches at one scale, in its own turned frame: a column-major bitmap and
+// the grid's origin in that frame.
+struct CellMask {
+  int width = 0, height = 0;
+  Eigen::Vector2d base;
+  std::vector<char> bits;  // bits[x * height + y]
+};
+
+CellMask cellMask(const ChartShape& chart, const Eigen::Matrix2d& rotation, double scale,
+                  double margin) {
+  CellMask mask;
+  std::vector<Eigen::Vector2d> p(chart.uv.size());
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high = -low;
+  for (size_t i = 0; i < p.size(); ++i) {
+    p[i] = rotation * chart.uv[i] * scale;
+    low = low.cwiseMin(p[i]), high = high.cwiseMax(p[i]);
+  }
+  mask.base = (low - Eigen::Vector2d::Constant(margin)).array().floor();
+  mask.width = static_cast<int>(std::floor(high.x() + margin - mask.base.x())) + 1;
+  mask.height = static_cast<int>(std::floor(high.y() + margin - mask.base.y())) + 1;
+  mask.bits.assign(static_cast<size_t>(mask.width) * mask.height, 0);
+  for (const auto& t : chart.triangles) {
+    const Eigen::Vector2d q[3] = {p[t[0]] - mask.base, p[t[1]] - mask.base, p[t[2]] - mask.base};
+    conservativeCells(q, margin, mask.width, mask.height, [&](int x, int y) {
+      mask.bits[static_cast<size_t>(x) * mask.height + y] = 1;
+    });
+  }
+  return mask;
+}
+
+// The mask of the chart turned a quarter counter-clockwise, (x, y) -> (-y, x): cell (X, Y) of
+// the grid becomes cell (-Y - 1, X), exactly, so the turned chart's cells need no new raster.
+CellMask quarterTurned(const CellMask& m) {
+  CellMask t;
+  t.width = m.height;
+  t.height = m.width;
+  t.base = Eigen::Vector2d(-m.base.y() - m.height, m.base.x());
+  t.bits.assign(m.bits.size(), 0);
+  for (int x = 0; x < m.width; ++x)
+    for (int y = 0; y < m.height; ++y)
+      t.bits[static_cast<size_t>(m.height - 1 - y) * t.height + x] =
+          m.bits[static_cast<size_t>(x) * m.height + y];
+  return t;
+}
+
+Footprint footprint(const CellMask& mask, int reach) {
+  Footprint fp;
+  fp.reach = reach;
+  fp.width = mask.width;
+  fp.height = mask.height;
+  fp.base = mask.base;
+  fp.cells.resize(fp.width);
+  std::vector<char> column(fp.height);
+  for (int x = 0; x < fp.width; ++x) {
+    std::copy_n(mask.bits.begin() + static_cast<size_t>(x) * fp.height, fp.height, column.begin());
+    fp.cells[x] = runsOf(column);
+  }
+  // Grown: each column's runs widened by reach, then spread over reach columns either side.
+  const int gw = fp.width + 2 * reach, gh = fp.height + 2 * reach;
+  std::vector<std::vector<char>> grown(gw, std::vector<char>(gh, 0));
+  for (int x = 0; x < fp.width; ++x)
+    for (const auto& [lo, hi] : fp.cells[x])
+      for (int j = x; j <= x + 2 * reach; ++j)
+        std::fill(grown[j].begin() + lo, grown[j].begin() + hi + 2 * reach + 1, 1);
+  fp.grown.resize(gw);
+  for (int j = 0; j < gw; ++j) {
+    fp.grown[j] = runsOf(grown[j]);
+    for (auto& run : fp.grown[j]) run.first -= reach, run.second -= reach;
+  }
+  return fp;
+}
+
+// The texture's occupied cells (grown by the gutter) as runs per column.
+class Occupancy {
+ public:
+  explicit Occupancy(int size) : columns_(size) {}
+
+  // The lowest y >= 0 at which the chart's cells, moved by (x, y), miss every occupied cell.
+  // Returns INT_MAX early once y cannot stay below `give_up`.
+  int lowestFree(const Footprint& fp, int x, int give_up = INT_MAX) const {
+    // Start above each column's filled bottom (the run from row 0): only holes above it are
+    // searched.
+    int y = 0, passes = 0;
+    for (int i = 0; i < fp.width; ++i) {
+      const Runs& column = columns_[x + i];
+      if (!fp.cells[i].empty() && !column.empty() && column.front().first == 0)
+        y = std::max(y, column.front().second + 1 - fp.cells[i].front().first);
+    }
+    if (y >= give_up) return INT_MAX;
+    // A hole is searched for a few passes; past them the chart goes above every cell of its
+    // columns, which is always free.
+    constexpr int kPasses = 4;
+    for (bool moved = true; moved;) {
+      moved = false;
+      if (++passes > kPasses) {
+        for (int i = 0; i < fp.width; ++i)
+          if (!columns_[x + i].empty() && !fp.cells[i].empty())
+            y = std::max(y, columns_[x + i].back().second + 1 - fp.cells[i].front().first);
+        break;
+      }
+      for (int i = 0; i < fp.width; ++i) {
+        const Runs& column = columns_[x + i];
+        for (const auto& [lo, hi] : fp.cells[i]) {
+          // The first occupied run ending at or above this run's bottom.
+          auto it =
+              std::lower_bound(column.begin(), column.end(), y + lo,
+                               [](const std::pair<int, int>& r, int v) { return r.second < v; });
+          if (it != column.end() && it->first <= y + hi) {
+            y = it->second + 1 - lo;
+            moved = true;
+          }
+        }
+      }
+    }
+    return y;
+  }
+
+  void occupy(const Footprint& fp, int x, int y) {
+    for (int j = 0; j < static_cast<int>(fp.grown.size()); ++j) {
+      const int column = x + j - fp.reach;
+      if (column < 0 || column >= static_cast<int>(columns_.size())) continue;
+      Runs& runs = columns_[column];
+      for (const auto& [lo, hi] : fp.grown[j]) {
+        runs.emplace_back(y + lo, y + hi);
+        top_ = std::max(top_, y + hi + 1 - fp.reach);
+      }
+      std::sort(runs.begin(), runs.end());
+      Runs merged;
+      for (const auto& r : runs)
+        if (!merged.empty() && r.first <= merged.back().second + 1)
+          merged.back().second = std::max(merged.back().second, r.second);
+        else
+          merged.push_back(r);
+      runs.swap(merged);
+    }
+  }
+  int top() const { return top_; }  // one above the highest chart cell
+
+ private:
+  std::vector<Runs> columns_;
+  int top_ = 0;
+};
+
+// Packs every chart at `scale` into a strip as wide as the texture, each at its lowest free
+// spot (lowest top, then lowest, then leftmost, over four quarter turns); returns the strip's
+// used height, or INT_MAX when a chart is wider than the texture.
+int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
+           const std::vector<int>& order, double scale, const PackOptions& options,
+           std::vector<Placement>& placements) {
+  const int size = options.texture_size;
+  const int reach = std::max(options.gutter - 1, 0);
+  Occupancy occupancy(size);
+  for (int c : order) {
+    struct Spot {
+      int top = INT_MAX, y = 0, x = 0, turn = 0;
+      bool operator<(const Spot& o) const {
+        return top != o.top ? top < o.top : y != o.y ? y < o.y : x < o.x;
+      }
+    } best;
+    Footprint chosen;
+    CellMask mask = cellMask(charts[c], box[c], scale, options.margin);
+    for (int turn = 0; turn < 4; ++turn) {
+      if (turn > 0) mask = quarterTurned(mask);
+      Footprint fp = footprint(mask, reach);
+      if (fp.width > size) continue;
+      const int last = size - fp.width;
+      // Every `stride`-th column (at most 256 of them), then every column around the best.
+      const int stride = std::max({1, fp.width / 8, size / 256});
+      Spot local;
+      auto tryAt = [&](int x) {
+        // Spots that cannot beat the best so far are not searched.
+        const int bound = std::min(best.top, local.top);
+        const int y =
+            occupancy.lowestFree(fp, x, bound == INT_MAX ? INT_MAX : bound - fp.height + 1);
+        if (y == INT_MAX) return;
+        const Spot spot{y + fp.height, y, x, turn};
+        if (spot < local) local = spot;
+      };
+      for (int x = 0; x <= last; x += stride) tryAt(x);
+      const int around = local.x;
+      for (int x = std::max(0, around - stride + 1); x <= std::min(last, around + stride - 1); ++x)
+        tryAt(x);
+      if (local < best) {
+        best = local;
+        chosen = std::move(fp);
+      }
+    }
+    if (best.top == INT_MAX) return INT_MAX;
+    occupancy.occupy(chosen, best.x, best.y);
+    placements[c].rotation = quarterTurn(best.turn) * box[c];
+    placements[c].offset = Eigen::Vector2d(best.x, best.y) - chosen.base;
+  }
+  return occupancy.top();
+}
+
+}  // namespace
+
+Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& options) {
+  Packing packing;
+  const int n = static_cast<int>(charts.size());
+  packing.placements.resize(n);
+  if (n == 0) return packing;
+  std::vector<Eigen::Matrix2d> box(n);
+  std::vector<double> area(n, 0.0);
+  double total = 0;
+  for (int c = 0; c < n; ++c) {
+    box[c] = smallestBoxRotation(charts[c].uv);
+    for (const auto& t : charts[c].triangles)
+      area[c] += 0.5 * std::abs(cross(charts[c].uv[t[0]], charts[c].uv[t[1]], charts[c].uv[t[2]]));
+    total += area[c];
+  }
+  // Largest first; ties by index, so the same order on every run.
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
+
+  const int size = options.texture_size;
+  // At `full` the charts' area would fill the square exactly: no packing does better.
+  const double full =
+      size / std::sqrt(std::max(total, std::numeric_limits<double>::min())) * options.shrink;
+  // Packed into a strip as wide as the texture, the used height grows about as the scale: each
+  // try aims at the height of the texture from the last, between the largest scale that fit and
+  // the smallest that did not.
+  std::vector<Placement> trial(n);
+  double fits = 0, fails = std::numeric_limits<double>::infinity();
+  double scale = 0.85 * full;
+  for (int attempt = 0; attempt < 10 && fails > 1.005 * fits; ++attempt) {
+    ++packing.attempts;
+    const int height = packAt(charts, box, order, scale, options, trial);
+    if (height <= size) {
+      fits = scale;
+      packing.placements = trial;
+    } else {
+      fails = scale;
+    }
+    double next =
+        height == INT_MAX ? 0.5 * scale : scale * std::sqrt(double(size) / height) * 0.998;
+    if (!(next > fits && next < fails))
+      next = std::isfinite(fails) ? 0.5 * (fits + fails) : 1.05 * scale;
+    scale = next;
+  }
+  if (fits == 0)
+    throw ParameterizationError(std::to_string(n) + " charts do not fit a " + std::to_string(size) +
+                                " texel texture with a " + std::to_string(options.gutter) +
+                                " texel gutter");
+  packing.texels_per_unit = fits;
+  return packing;
+}
+
+}  // namespace sdp::atlas

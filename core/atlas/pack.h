@@ -1,0 +1,52 @@
+// Packing charts into the unit square at one scale (docs/method.md §7): each chart is turned to
+// its smallest bounding rectangle, then charts, largest first, drop onto a skyline of texel
+// columns (a Tetris-like packer, as in Lévy et al. 2002) at the spot that wastes the least area
+// under them, trying four quarter turns (never a mirror). A chart is placed by the cells it
+// touches (raster.h, conservative), grown by gutter - 1 cells, so no covered pixel of one chart
+// comes within gutter - 1 pixels of another's, whatever the rounding of the stored values. The
+// scale is the largest that fits, found by bisection.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+namespace sdp::atlas {
+
+// One chart in its own frame (e.g. 3D units): positions and triangles (indices into uv).
+struct ChartShape {
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+// A chart's place: uv_packed = (rotation * uv * texels_per_unit + offset) / texture_size.
+struct Placement {
+  Eigen::Matrix2d rotation = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();  // texels
+};
+
+struct Packing {
+  double texels_per_unit = 0;
+  std::vector<Placement> placements;  // per chart
+  int attempts = 0;                   // scales tried
+  Eigen::Vector2d apply(int chart, const Eigen::Vector2d& uv, int texture_size) const {
+    const Placement& p = placements[chart];
+    return (p.rotation * uv * texels_per_unit + p.offset) / texture_size;
+  }
+};
+
+struct PackOptions {
+  int texture_size = 2048;
+  int gutter = 2;
+  // Extra cell margin around each triangle, in texels: room for the stored values' rounding.
+  double margin = 1e-3;
+  // Largest scale tried, relative to the one where the charts' area fills the square: a scale
+  // is accepted only below this.
+  double shrink = 1.0;
+};
+
+// Throws ParameterizationError when the charts cannot fit at any scale above a texel per chart
+// (more charts than the texture can hold).
+Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& options);
+
+}  // namespace sdp::atlas

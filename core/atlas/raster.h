@@ -1,0 +1,80 @@
+// Triangles on a texel grid, two ways: every cell a triangle touches (conservative, for packing:
+// what a chart may cover once stored), and the pixels whose centre it covers by a top-left fill
+// rule (what a renderer draws, for the checks: two triangles sharing an edge never both cover a
+// pixel on it). Texel (x, y) is the square [x, x+1] x [y, y+1]; its centre is (x+0.5, y+0.5).
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sdp::atlas {
+
+// Calls visit(x, y) for every cell of the grid [0, width) x [0, height) that the triangle,
+// grown by `margin` texels, touches: row by row, the triangle's extent within the row's slab
+// (itself grown by the margin), so each row is one span.
+template <class Visit>
+void conservativeCells(const Eigen::Vector2d p[3], double margin, int width, int height,
+                       Visit&& visit) {
+  const double y_low = std::min({p[0].y(), p[1].y(), p[2].y()});
+  const double y_high = std::max({p[0].y(), p[1].y(), p[2].y()});
+  const int row0 = std::max(0, static_cast<int>(std::floor(y_low - margin)));
+  const int row1 = std::min(height - 1, static_cast<int>(std::floor(y_high + margin)));
+  for (int y = row0; y <= row1; ++y) {
+    const double s0 = y - margin, s1 = y + 1 + margin;
+    double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
+    auto take = [&](double x) { x_low = std::min(x_low, x), x_high = std::max(x_high, x); };
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d& a = p[k];
+      const Eigen::Vector2d& b = p[(k + 1) % 3];
+      if (a.y() >= s0 && a.y() <= s1) take(a.x());
+      // Where the edge crosses the slab's two sides.
+      for (const double line : {s0, s1})
+        if ((a.y() - line) * (b.y() - line) < 0)
+          take(a.x() + (b.x() - a.x()) * (line - a.y()) / (b.y() - a.y()));
+    }
+    if (!(x_low <= x_high)) continue;
+    const int x0 = std::max(0, static_cast<int>(std::floor(x_low - margin)));
+    const int x1 = std::min(width - 1, static_cast<int>(std::floor(x_high + margin)));
+    for (int x = x0; x <= x1; ++x) visit(x, y);
+  }
+}
+
+// Calls visit(x, y) for every pixel of [0, width) x [0, height) whose centre the triangle
+// covers, by the top-left rule (either winding; zero-area triangles cover nothing).
+template <class Visit>
+void coveredPixels(const Eigen::Vector2d q[3], int width, int height, Visit&& visit) {
+  Eigen::Vector2d p[3] = {q[0], q[1], q[2]};
+  double twice_area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[1] - p[0]).y() * (p[2] - p[0]).x();
+  if (!(twice_area != 0) || !std::isfinite(twice_area)) return;
+  if (twice_area < 0) std::swap(p[1], p[2]);  // counter-clockwise from here on
+  const int x0 =
+      std::max(0, static_cast<int>(std::ceil(std::min({p[0].x(), p[1].x(), p[2].x()}) - 0.5)));
+  const int x1 = std::min(
+      width - 1, static_cast<int>(std::floor(std::max({p[0].x(), p[1].x(), p[2].x()}) - 0.5)));
+  const int y0 =
+      std::max(0, static_cast<int>(std::ceil(std::min({p[0].y(), p[1].y(), p[2].y()}) - 0.5)));
+  const int y1 = std::min(
+      height - 1, static_cast<int>(std::floor(std::max({p[0].y(), p[1].y(), p[2].y()}) - 0.5)));
+  // An edge a -> b owns the centres exactly on it when it runs up, or runs left along a row:
+  // the edge shared by two triangles runs the other way in the other, which then does not.
+  bool owns[3];
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d e = p[(k + 1) % 3] - p[k];
+    owns[k] = e.y() > 0 || (e.y() == 0 && e.x() < 0);
+  }
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const Eigen::Vector2d c(x + 0.5, y + 0.5);
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        const Eigen::Vector2d a = p[k], e = p[(k + 1) % 3] - p[k];
+        const double side = e.x() * (c.y() - a.y()) - e.y() * (c.x() - a.x());
+        inside = side > 0 || (side == 0 && owns[k]);
+      }
+      if (inside) visit(x, y);
+    }
+}
+
+}  // namespace sdp::atlas

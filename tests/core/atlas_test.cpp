@@ -1,0 +1,330 @@
+// The atlas (core/atlas): closed, higher-genus, many-piece, non-manifold and inconsistently
+// oriented meshes made in code (and the shared closed models when they are there), each checked
+// with the atlas measures on the stored values: every face charted, no flip, no mirrored chart,
+// no pixel covered twice, every gutter kept, every UV in [0,1]^2, low stretch, the same bytes on
+// every run; and bad input refused with one line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "core/atlas/atlas.h"
+#include "core/atlas/measure.h"
+#include "core/atlas/raster.h"
+#include "core/error.h"
+#include "mesh_io.h"
+#include "test_mesh_files.h"
+#include "test_meshes.h"
+
+namespace sdp::atlas {
+namespace {
+
+using test::Mesh;
+
+// A torus of n x m quads (genus 1), radii R and r.
+Mesh torus(int n, int m, double R = 1.0, double r = 0.4) {
+  Mesh mesh;
+  mesh.V.resize(n * m, 3);
+  mesh.F.resize(2 * n * m, 3);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m;
+      mesh.V.row(i * m + j) << (R + r * std::cos(v)) * std::cos(u),
+          (R + r * std::cos(v)) * std::sin(u), r * std::sin(v);
+    }
+  int f = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const int a = i * m + j, b = ((i + 1) % n) * m + j, c = ((i + 1) % n) * m + (j + 1) % m,
+                d = i * m + (j + 1) % m;
+      mesh.F.row(f++) << a, b, c;
+      mesh.F.row(f++) << a, c, d;
+    }
+  return mesh;
+}
+
+// A closed sphere: an octahedron split `levels` times, pushed onto the unit sphere.
+Mesh sphere(int levels) {
+  std::vector<Eigen::Vector3d> v = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  std::vector<std::array<int, 3>> f = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                       {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      return mid[key] = static_cast<int>(v.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> next;
+    for (const auto& t : f) {
+      const int ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+      next.push_back({t[0], ab, ca});
+      next.push_back({ab, t[1], bc});
+      next.push_back({ca, bc, t[2]});
+      next.push_back({ab, bc, ca});
+    }
+    f.swap(next);
+  }
+  Mesh mesh;
+  mesh.V.resize(v.size(), 3);
+  for (size_t i = 0; i < v.size(); ++i) mesh.V.row(i) = v[i].transpose();
+  mesh.F.resize(f.size(), 3);
+  for (size_t i = 0; i < f.size(); ++i) mesh.F.row(i) << f[i][0], f[i][1], f[i][2];
+  return mesh;
+}
+
+// Both meshes in one (the second's vertices after the first's), moved apart along x.
+Mesh together(const Mesh& a, const Mesh& b, double shift = 3) {
+  Mesh m;
+  m.V.resize(a.V.rows() + b.V.rows(), 3);
+  m.V << a.V, b.V;
+  m.V.bottomRows(b.V.rows()).col(0).array() += shift;
+  m.F.resize(a.F.rows() + b.F.rows(), 3);
+  m.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
+  return m;
+}
+
+AtlasOptions quickOptions(int texture_size = 1024) {
+  AtlasOptions o;
+  o.texture_size = texture_size;
+  return o;
+}
+
+// The hard gates of an atlas as stored, measured from its layout alone.
+void expectCertified(const Mesh& mesh, const AtlasResult& r, const AtlasOptions& o,
+                     double l2_limit = 1.05) {
+  const AtlasMeasures m = measureAtlas(mesh.V, mesh.F, r.layout, o.texture_size, o.gutter);
+  EXPECT_EQ(m.flipped_faces, 0);
+  EXPECT_EQ(m.mirrored_charts, 0);
+  EXPECT_EQ(m.overlapping_pixels, 0);
+  EXPECT_EQ(m.gutter_violations, 0);
+  EXPECT_EQ(m.outside_faces, 0);
+  EXPECT_EQ(m.charts, r.report.charts);  // each chart one piece by its stored UVs
+  ASSERT_EQ(r.layout.chart.size(), static_cast<size_t>(mesh.F.rows()));
+  for (int c : r.layout.chart) EXPECT_GE(c, 0);
+  EXPECT_LE(r.report.l2_stretch, l2_limit);
+  EXPECT_NEAR(m.l2, r.report.l2_stretch, 1e-9);
+  EXPECT_GT(r.report.packing_efficiency, 0.2);
+  EXPECT_EQ(r.report.flipped_faces, 0);
+  EXPECT_EQ(r.report.overlapping_charts, 0);
+}
+
+TEST(AtlasRaster, TwoTrianglesSharingAnEdgeCoverEachPixelOnce) {
+  // The diagonal of a square passes through pixel centres: the top-left rule gives each one to
+  // exactly one of the two triangles.
+  const Eigen::Vector2d a(0, 0), b(8, 0), c(8, 8), d(0, 8);
+  const Eigen::Vector2d t1[3] = {a, b, c}, t2[3] = {a, c, d};
+  std::vector<int> count(64, 0);
+  coveredPixels(t1, 8, 8, [&](int x, int y) { ++count[y * 8 + x]; });
+  coveredPixels(t2, 8, 8, [&](int x, int y) { ++count[y * 8 + x]; });
+  for (int n : count) EXPECT_EQ(n, 1);
+}
+
+TEST(AtlasRaster, ConservativeCellsHoldEveryCoveredPixel) {
+  const Eigen::Vector2d t[3] = {{0.3, 0.2}, {7.6, 1.1}, {2.2, 6.9}};
+  std::vector<char> cells(100, 0);
+  conservativeCells(t, 0, 10, 10, [&](int x, int y) { cells[y * 10 + x] = 1; });
+  int covered = 0;
+  coveredPixels(t, 10, 10, [&](int x, int y) {
+    EXPECT_TRUE(cells[y * 10 + x]) << x << "," << y;
+    ++covered;
+  });
+  EXPECT_GT(covered, 10);
+}
+
+TEST(AtlasMeasures, CountOverlapGutterSeamAndMirroredCharts) {
+  // Two triangles of two charts (no shared UVs across their shared edge).
+  Mesh mesh;
+  mesh.V.resize(4, 3);
+  mesh.V << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  mesh.F.resize(2, 3);
+  mesh.F << 0, 1, 2, 0, 2, 3;
+  Layout layout;
+  layout.uv.resize(6, 2);
+  layout.uv << 0.1, 0.1, 0.4, 0.1, 0.4, 0.4,  // chart 0
+      0.5, 0.1, 0.8, 0.4, 0.5, 0.4;           // chart 1, a gap of 0.1 from chart 0
+  layout.face_uv.resize(2, 3);
+  layout.face_uv << 0, 1, 2, 3, 4, 5;
+  AtlasMeasures m = measureAtlas(mesh.V, mesh.F, layout, 100, 2);
+  EXPECT_EQ(m.charts, 2);
+  EXPECT_NEAR(m.seam, std::sqrt(2.0), 1e-12);  // the diagonal, over sqrt(area 1)
+  EXPECT_EQ(m.overlapping_pixels, 0);
+  EXPECT_EQ(m.gutter_violations, 0);
+  EXPECT_EQ(m.mirrored_charts, 0);
+  EXPECT_EQ(m.flipped_faces, 0);
+  // Chart 1 moved onto chart 0: overlapping pixels; next to it: gutter violations.
+  layout.uv.bottomRows(3).col(0).array() -= 0.3;
+  m = measureAtlas(mesh.V, mesh.F, layout, 100, 2);
+  EXPECT_GT(m.overlapping_pixels, 0);
+  EXPECT_GT(m.gutter_violations, 0);
+  // Mirrored: chart 1 reflected.
+  layout.uv.bottomRows(3).col(0) = 1.0 - layout.uv.bottomRows(3).col(0).array();
+  m = measureAtlas(mesh.V, mesh.F, layout, 100, 2);
+  EXPECT_EQ(m.mirrored_charts, 1);
+  // One chart: the same UVs on both sides of the diagonal, no seam.
+  Layout one =
+      Layout::perVertex((Eigen::MatrixXd(4, 2) << 0, 0, 1, 0, 1, 1, 0, 1).finished(), mesh.F);
+  m = measureAtlas(mesh.V, mesh.F, one, 0, 0);
+  EXPECT_EQ(m.charts, 1);
+  EXPECT_EQ(m.seam, 0);
+  EXPECT_NEAR(m.efficiency, 1.0, 1e-12);
+}
+
+TEST(Atlas, ClosedSphere) {
+  const Mesh mesh = sphere(4);  // 2048 faces
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_GE(r.report.charts, 2);  // a closed sphere needs a cut
+  EXPECT_LE(r.report.charts, 40);
+  EXPECT_EQ(r.report.components, 1);
+}
+
+TEST(Atlas, TorusOfGenusOne) {
+  const Mesh mesh = torus(48, 16);
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_GE(r.report.charts, 1);
+}
+
+TEST(Atlas, SeveralPiecesOpenAndClosed) {
+  const Mesh mesh = together(together(sphere(3), torus(32, 12)), test::planarGrid(10), 6);
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_EQ(r.report.components, 3);
+  // The flat grid is one chart, with a texel density shared by all charts.
+  EXPECT_GT(r.report.texels_per_unit, 0);
+}
+
+TEST(Atlas, InconsistentOrientationIsCutNeverMirrored) {
+  Mesh mesh = sphere(3);
+  for (int f = 0; f < mesh.F.rows(); f += 7) std::swap(mesh.F(f, 1), mesh.F(f, 2));
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_GT(r.report.inconsistent_edges, 0);
+}
+
+TEST(Atlas, NonManifoldEdgeAndZeroAreaFacesAreCharted) {
+  Mesh mesh = test::planarGrid(6);
+  const int n = static_cast<int>(mesh.V.rows());
+  // A fin on an inner edge (three faces on it), and a zero-area face (collinear corners) and
+  // a face with a repeated vertex.
+  mesh.V.conservativeResize(n + 2, 3);
+  mesh.V.row(n) << 0.5, 0.5, 1;
+  mesh.V.row(n + 1) = 0.5 * (mesh.V.row(0) + mesh.V.row(1));
+  const int faces = static_cast<int>(mesh.F.rows());
+  mesh.F.conservativeResize(faces + 3, 3);
+  mesh.F.row(faces) << mesh.F(10, 0), mesh.F(10, 1), n;
+  mesh.F.row(faces + 1) << 0, n + 1, 1;
+  mesh.F.row(faces + 2) << 2, 2, 3;
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_EQ(r.report.non_manifold_edges, 1);
+  EXPECT_EQ(r.report.zero_area_faces, 2);
+  // Zero-area faces still get a positive UV area.
+  for (int f : {faces + 1, faces + 2}) {
+    const Eigen::RowVector2d a = r.layout.corner(f, 0), b = r.layout.corner(f, 1),
+                             c = r.layout.corner(f, 2);
+    EXPECT_GT((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(), 0);
+  }
+}
+
+TEST(Atlas, SameBytesOnEveryRunAndEveryStorage) {
+  const Mesh mesh = together(sphere(3), torus(32, 12));
+  for (UVStorage storage : {UVStorage::Double, UVStorage::Float, UVStorage::FloatAndSixDecimals}) {
+    AtlasOptions o = quickOptions();
+    o.storage = storage;
+    const AtlasResult a = makeAtlas(mesh.V, mesh.F, o);
+    const AtlasResult b = makeAtlas(mesh.V, mesh.F, o);
+    ASSERT_EQ(a.layout.uv.rows(), b.layout.uv.rows());
+    EXPECT_EQ(0, std::memcmp(a.layout.uv.data(), b.layout.uv.data(),
+                             sizeof(double) * a.layout.uv.size()));
+    EXPECT_TRUE(a.layout.face_uv == b.layout.face_uv);
+    expectCertified(mesh, a, o);
+    for (int i = 0; i < a.layout.uv.size(); ++i) {
+      const double x = a.layout.uv.data()[i];
+      if (storage != UVStorage::Double) EXPECT_EQ(x, static_cast<double>(static_cast<float>(x)));
+    }
+  }
+}
+
+TEST(Atlas, GutterIsKeptAtEveryWidth) {
+  const Mesh mesh = together(sphere(3), torus(24, 10));
+  for (int gutter : {0, 1, 4, 8}) {
+    AtlasOptions o = quickOptions(512);
+    o.gutter = gutter;
+    const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+    expectCertified(mesh, r, o);
+  }
+}
+
+TEST(Atlas, BadInputIsRefusedWithOneLine) {
+  auto reason = [](const Positions& V, const Triangles& F, AtlasOptions o = {}) {
+    try {
+      makeAtlas(V, F, o);
+    } catch (const ParameterizationError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  Positions V(3, 3);
+  V << 0, 0, 0, 1, 0, 0, 0, 1, 0;
+  Triangles none(0, 3);
+  EXPECT_EQ(reason(V, none), "the mesh has no faces");
+  Triangles F(1, 3);
+  F << 0, 1, 5;
+  EXPECT_NE(reason(V, F).find("out of range"), std::string::npos);
+  F << 0, 1, 2;
+  Positions nan = V;
+  nan(1, 1) = std::nan("");
+  EXPECT_NE(reason(nan, F).find("not finite"), std::string::npos);
+  Positions line(3, 3);
+  line << 0, 0, 0, 1, 0, 0, 2, 0, 0;
+  EXPECT_EQ(reason(line, F), "every face has zero area (no surface to flatten)");
+  AtlasOptions small;
+  small.texture_size = 8;
+  EXPECT_NE(reason(V, F, small).find("texture size"), std::string::npos);
+  for (const std::string& r : {reason(V, none), reason(line, F)})
+    EXPECT_EQ(r.find('\n'), std::string::npos);
+}
+
+TEST(Atlas, CancelStopsTheRun) {
+  const Mesh mesh = sphere(3);
+  AtlasOptions o = quickOptions();
+  o.chart.progress = [](const char*, int percent) { return percent < 5; };
+  EXPECT_THROW(makeAtlas(mesh.V, mesh.F, o), ParameterizationError);
+}
+
+// The shared closed models, when they are beside the clone.
+class ClosedMesh : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ClosedMesh, CertifiedAsStoredWithLowStretch) {
+  SDP_MESH_OR_SKIP(path, std::string("closed/") + GetParam());
+  const io::MeshData data = io::readMesh(path);
+  const Mesh mesh{data.V, data.F};
+  AtlasOptions o;
+  o.storage = UVStorage::FloatAndSixDecimals;
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, ClosedMesh,
+                         ::testing::Values("decimated-knight.off", "bunny.off", "fertility.off",
+                                           "horse_quad.obj", "truck.obj"),
+                         [](const auto& info) {
+                           std::string name = info.param;
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace sdp::atlas
