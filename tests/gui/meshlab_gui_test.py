@@ -19,7 +19,7 @@ MeshLab are always stopped, on failure too.
 Checks, each on real behaviour:
   plugins  no "Error while loading plugins." window opened before the main window, nor is one
            open once the mesh is drawn;
-  menu     the Texture submenu opened with one row more than Debian's own Texture filters, the
+  menu     the Texture submenu opened with two rows more than Debian's own Texture filters, the
            highlighted row is the one where our entry sorts (MeshLab sorts a category's filters
            by name), and the window that opens on Enter is titled with our filter's name
            (xdotool search --name): the entry was ours;
@@ -58,6 +58,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import debian_root  # noqa: E402
 
 FILTER_NAME = "Parametrization: Straightest Distances"  # docs/method.md section 6
+# The plugin's second filter (docs/method.md section 7), in the same Texture submenu.
+ATLAS_FILTER_NAME = "Parametrization: Straightest Distances Atlas"
 MAIN_TITLE = r"^MeshLab 20[0-9.]+ - \["
 PLUGIN_ERROR_TITLE = r"^Error while loading plugins"  # MeshLab 2022+'s QMessageBox
 SYSTEM_PLUGIN_FOLDER = "/usr/lib/x86_64-linux-gnu/meshlab/plugins"  # Debian's, in a root
@@ -501,7 +503,8 @@ def run_test(args, gui):
     texture_menu = gui.wait_for("the Texture submenu", lambda: [
         p for p in gui.popups() if p[0] not in {w for w, _ in filters_menu}])
     _, (mx, my, mw, mh) = texture_menu[0]
-    names = sorted(TEXTURE_FILTERS[args.meshlab_version] + [FILTER_NAME])  # QString order = code units
+    # QString order = code units; the atlas sorts right after the patch filter.
+    names = sorted(TEXTURE_FILTERS[args.meshlab_version] + [FILTER_NAME, ATLAS_FILTER_NAME])
     index = names.index(FILTER_NAME)
     if index:
         gui.key(*(["Down"] * index))
@@ -521,13 +524,13 @@ def run_test(args, gui):
         band = highlighted_row(menu_path, (mx, my, mw, mh))
         raise CheckFailed("Texture submenu at %s: highlighted band %s, expected row %d "
                           "(see 02_menu.png)" % ((mx, my, mw, mh), band, index))
-    # All rows are as high as the highlight: the submenu holds Debian's entries plus exactly one
-    # more. Without our plugin it is one row shorter (and Enter would open another filter).
+    # All rows are as high as the highlight: the submenu holds Debian's entries plus exactly our
+    # two. Without our plugin it is two rows shorter (and Enter would open another filter).
     rows = int(round(mh / float(height)))
     if rows != len(names):
         raise CheckFailed("the Texture submenu has %d rows (%d px / %d px), expected %d: Debian's "
-                          "%d and ours (see 02_menu.png)" % (rows, mh, height, len(names),
-                                                             len(names) - 1))
+                          "%d and our two (see 02_menu.png)" % (rows, mh, height, len(names),
+                                                                 len(names) - 2))
     LAYOUT["menus"] = [list(g) for _, g in filters_menu + texture_menu]
     passed("menu", "Texture submenu %dx%d+%d+%d open with %d rows, row %d highlighted (y %d..%d)"
            " = where '%s' sorts" % (mw, mh, mx, my, rows, index, my + top,
