@@ -4,24 +4,10 @@
 #include <array>
 #include <numeric>
 
+#include "disjoint_sets.h"
+
 namespace sdp {
 namespace {
-
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  void join(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
 
 // The distinct values of `values`, counted.
 int distinctCount(std::vector<int>& values) {

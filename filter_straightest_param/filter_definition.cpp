@@ -159,14 +159,20 @@ const std::vector<ParameterDescription>& parameters() {
   return list;
 }
 
-FilterValues defaultValues() {
-  FilterValues values{};
-  for (const ParameterDescription& p : parameters()) {
+namespace {
+// `values` with every field of the table's rows at its row's default.
+FilterValues withDefaults(const std::vector<ParameterDescription>& table, FilterValues values) {
+  for (const ParameterDescription& p : table) {
     if (p.int_field) values.*p.int_field = p.default_int;
     if (p.bool_field) values.*p.bool_field = p.default_int != 0;
     if (p.string_field) values.*p.string_field = p.default_string;
   }
   return values;
+}
+}  // namespace
+
+FilterValues defaultValues() {
+  return withDefaults(parameters(), FilterValues{});
 }
 
 void checkValue(const ParameterDescription& p, int value, const std::string& who) {
@@ -378,13 +384,7 @@ const std::vector<ParameterDescription>& atlasParameters() {
 }
 
 FilterValues atlasDefaultValues() {
-  FilterValues values = defaultValues();
-  for (const ParameterDescription& p : atlasParameters()) {
-    if (p.int_field) values.*p.int_field = p.default_int;
-    if (p.bool_field) values.*p.bool_field = p.default_int != 0;
-    if (p.string_field) values.*p.string_field = p.default_string;
-  }
-  return values;
+  return withDefaults(atlasParameters(), defaultValues());
 }
 
 sdp::atlas::AtlasOptions toAtlasOptions(const FilterValues& values) {

@@ -6,27 +6,12 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/disjoint_sets.h"
 #include "core/metrics.h"
 #include "raster.h"
 
 namespace sdp::atlas {
 namespace {
-
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  void join(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
 
 // The mesh's edges as groups of half-edges h = 3 f + k (corner k to k + 1), sorted by end points.
 struct EdgeGroups {
