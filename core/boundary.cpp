@@ -304,6 +304,9 @@ double planeWalkDistance(const Patch& patch, int source, const Eigen::Vector3d& 
         ++slot;
       const int next = patch.face_across[face][slot];
       if (next < 0) break;  // left the patch elsewhere than at b
+      // Back in the first face: the plane's curve is a closed loop (around an arm or a handle of
+      // the patch) that misses b; the walk is reversible, so it would only go round again.
+      if (next == start.face) break;
       const auto& nt = patch.face[next];
       const int z = nt[0] != u && nt[0] != w ? nt[0] : (nt[1] != u && nt[1] != w ? nt[1] : nt[2]);
       if (above(z) == above(u))

@@ -155,6 +155,10 @@ std::vector<std::vector<int>> components(const FaceGraph& g) {
   return pieces;
 }
 
+// Faces per part when a piece that is not a disk is first cut: pieces of fewer than twice this
+// (the shared closed models, up to 86k faces) are halved.
+constexpr size_t kFacesPerFirstPart = 60000;
+
 class AtlasBuilder {
  public:
   AtlasBuilder(const Positions& V, const Triangles& F, const AtlasOptions& options)
@@ -230,7 +234,11 @@ class AtlasBuilder {
         } else if (regionIsDisk(graph, faces)) {
           disks.push_back(std::move(faces));
         } else {
-          for (std::vector<int>& part : splitFaces(graph, faces, 2, scratch))
+          // A piece that is not a disk must be cut anyway; a large one is cut into parts of
+          // about kFacesPerFirstPart faces at once, not halved level by level, so that its
+          // largest pieces are not flattened only to be split again.
+          const int parts = std::max<int>(2, static_cast<int>(faces.size() / kFacesPerFirstPart));
+          for (std::vector<int>& part : splitFaces(graph, faces, parts, scratch))
             disks.push_back(std::move(part));
         }
       }

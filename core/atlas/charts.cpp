@@ -142,6 +142,46 @@ void faceDistances(const FaceGraph& g, const std::vector<int>& region, int id,
   }
 }
 
+// Moves "ears" across the border between two regions of the list: a face with one edge on its
+// own region and two on another's goes to the other, which shortens the cut by the triangle
+// inequality and keeps both regions disks (the face leaves as the reverse of a disk-keeping
+// step and fills a notch of the other). Region growth over triangles leaves a zig-zag border;
+// this straightens it, so the seam is shorter (docs/method.md §7).
+void smoothBorders(const FaceGraph& g, const std::vector<int>& faces, std::vector<int>& region) {
+  const Triangles& F = *g.F;
+  auto vertexInOther = [&](int v, int id, int except) {
+    for (int k = g.vertex_face_begin[v]; k < g.vertex_face_begin[v + 1]; ++k) {
+      const int f = g.vertex_face[k];
+      if (f != except && region[f] == id) return true;
+    }
+    return false;
+  };
+  constexpr int kPasses = 8;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    int moved = 0;
+    for (int f : faces) {
+      const int own = region[f];
+      int own_edges = 0, own_k = -1, other = kOutside, other_edges = 0;
+      for (int k = 0; k < 3; ++k) {
+        const int n = g.across[3 * f + k];
+        if (n < 0) continue;
+        if (region[n] == own) {
+          ++own_edges, own_k = k;
+        } else if (region[n] >= 0 && (other == kOutside || region[n] == other)) {
+          other = region[n], ++other_edges;
+        }
+      }
+      if (own_edges != 1 || other_edges != 2) continue;
+      // The vertex opposite the edge kept with its own region must leave that region with it.
+      const int apex = F(f, (own_k + 2) % 3);
+      if (vertexInOther(apex, own, f)) continue;
+      region[f] = other;
+      ++moved;
+    }
+    if (moved == 0) break;
+  }
+}
+
 }  // namespace
 
 FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c) {
@@ -246,7 +286,10 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
   for (int step = 0;; ++step) {
     for (int f : faces) region[f] = kUnassigned;
     made = growRegions(graph, faces, seeds, 0, kCompactness, length, region);
-    if (step == kLloydSteps) break;
+    if (step == kLloydSteps) {
+      smoothBorders(graph, faces, region);
+      break;
+    }
     // Each part's most typical face: close to its mean normal and to its centroid.
     const int n = static_cast<int>(seeds.size());
     std::vector<Eigen::Vector3d> normal(n, Eigen::Vector3d::Zero()),

@@ -3,11 +3,14 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "core/disjoint_sets.h"
 #include "core/metrics.h"
+#include "core/parallel.h"
 #include "raster.h"
 
 namespace sdp::atlas {
@@ -87,33 +90,77 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   constexpr int kEmpty = -1, kShared = -2;
   std::vector<int> owner(static_cast<size_t>(size) * size, kEmpty);
   std::vector<unsigned char> covers(static_cast<size_t>(size) * size, 0);
-  for (int f = 0; f < layout.faceCount(); ++f) {
-    Eigen::Vector2d p[3];
-    for (int k = 0; k < 3; ++k) p[k] = (layout.corner(f, k) * size).transpose();
-    const int c = chart.empty() ? 0 : chart[f];
-    coveredPixels(p, size, size, [&](int x, int y) {
-      const size_t i = static_cast<size_t>(y) * size + x;
-      if (covers[i] < 255) ++covers[i];
-      owner[i] = owner[i] == kEmpty || owner[i] == c ? c : kShared;
-    });
-  }
-  for (unsigned char c : covers) m.overlapping_pixels += c >= 2;
-  const int reach = gutter - 1;
-  if (reach <= 0) return m;
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      const int c = owner[static_cast<size_t>(y) * size + x];
-      if (c == kEmpty) continue;
-      bool violated = c == kShared;
-      for (int dy = -reach; dy <= reach && !violated; ++dy)
-        for (int dx = -reach; dx <= reach && !violated; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
-          const int o = owner[static_cast<size_t>(ny) * size + nx];
-          violated = o != kEmpty && o != c;
-        }
-      m.gutter_violations += violated;
+  // Bands of rows, each rastered by one thread from the faces that reach it; the counts are
+  // sums of integers, the same in any order.
+  constexpr int kBandRows = 64;
+  const int bands = (size + kBandRows - 1) / kBandRows;
+  const int faces = layout.faceCount();
+  std::vector<std::array<Eigen::Vector2d, 3>> corners(faces);
+  std::vector<int> band_begin(bands + 1, 0), first_band(faces), last_band(faces);
+  for (int f = 0; f < faces; ++f) {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (int k = 0; k < 3; ++k) {
+      corners[f][k] = (layout.corner(f, k) * size).transpose();
+      low = std::min(low, corners[f][k].y()), high = std::max(high, corners[f][k].y());
     }
+    // Rows whose centres the triangle may reach (none when not finite).
+    const double row_low = std::ceil(low - 0.5), row_high = std::floor(high - 0.5);
+    if (!(row_low <= row_high) || row_high < 0 || row_low > size - 1) {
+      first_band[f] = 0, last_band[f] = -1;
+      continue;
+    }
+    first_band[f] = static_cast<int>(std::max(0.0, row_low)) / kBandRows;
+    last_band[f] = static_cast<int>(std::min<double>(size - 1, row_high)) / kBandRows;
+    for (int b = first_band[f]; b <= last_band[f]; ++b) ++band_begin[b + 1];
+  }
+  for (int b = 0; b < bands; ++b) band_begin[b + 1] += band_begin[b];
+  std::vector<int> band_face(band_begin[bands]);
+  {
+    std::vector<int> fill(band_begin.begin(), band_begin.end() - 1);
+    for (int f = 0; f < faces; ++f)
+      for (int b = first_band[f]; b <= last_band[f]; ++b) band_face[fill[b]++] = f;
+  }
+  std::vector<long long> overlapping(bands, 0), violations(bands, 0);
+  parallelFor(bands, 1, [&](int begin, int end, int) {
+    for (int b = begin; b < end; ++b) {
+      const int row_begin = b * kBandRows, row_end = std::min(size, row_begin + kBandRows);
+      for (int i = band_begin[b]; i < band_begin[b + 1]; ++i) {
+        const int f = band_face[i];
+        const int c = chart.empty() ? 0 : chart[f];
+        coveredPixelsInRows(corners[f].data(), size, row_begin, row_end, [&](int x, int y) {
+          const size_t at = static_cast<size_t>(y) * size + x;
+          if (covers[at] < 255) ++covers[at];
+          owner[at] = owner[at] == kEmpty || owner[at] == c ? c : kShared;
+        });
+      }
+      for (size_t at = static_cast<size_t>(row_begin) * size;
+           at < static_cast<size_t>(row_end) * size; ++at)
+        overlapping[b] += covers[at] >= 2;
+    }
+  });
+  const int reach = gutter - 1;
+  if (reach > 0)
+    parallelFor(bands, 1, [&](int begin, int end, int) {
+      for (int b = begin; b < end; ++b)
+        for (int y = b * kBandRows; y < std::min(size, (b + 1) * kBandRows); ++y)
+          for (int x = 0; x < size; ++x) {
+            const int c = owner[static_cast<size_t>(y) * size + x];
+            if (c == kEmpty) continue;
+            bool violated = c == kShared;
+            for (int dy = -reach; dy <= reach && !violated; ++dy)
+              for (int dx = -reach; dx <= reach && !violated; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
+                const int o = owner[static_cast<size_t>(ny) * size + nx];
+                violated = o != kEmpty && o != c;
+              }
+            violations[b] += violated;
+          }
+    });
+  for (int b = 0; b < bands; ++b) {
+    m.overlapping_pixels += overlapping[b];
+    m.gutter_violations += violations[b];
+  }
   return m;
 }
 

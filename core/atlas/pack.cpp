@@ -79,6 +79,18 @@ const Eigen::Matrix2d& quarterTurn(int q) {
 // Cell runs [low, high] per column, sorted and disjoint.
 using Runs = std::vector<std::pair<int, int>>;
 
+// Sorts and merges runs that overlap or touch.
+void mergeRuns(Runs& runs) {
+  std::sort(runs.begin(), runs.end());
+  size_t kept = 0;
+  for (size_t i = 0; i < runs.size(); ++i)
+    if (kept > 0 && runs[i].first <= runs[kept - 1].second + 1)
+      runs[kept - 1].second = std::max(runs[kept - 1].second, runs[i].second);
+    else
+      runs[kept++] = runs[i];
+  runs.resize(kept);
+}
+
 // A chart at one scale and turn, as the packer sees it: per cell column the runs of cells it
 // touches, and the runs of those cells grown by the gutter (the columns reach further out too).
 struct Footprint {
@@ -89,87 +101,44 @@ struct Footprint {
   std::vector<Runs> grown;    // per column [-reach, width + reach), shifted by reach
 };
 
-Runs runsOf(const std::vector<char>& column) {
-  Runs runs;
-  for (int y = 0; y < static_cast<int>(column.size()); ++y)
-    if (column[y]) {
-      if (!runs.empty() && runs.back().second == y - 1)
-        runs.back().second = y;
-      else
-        runs.emplace_back(y, y);
-    }
-  return runs;
-}
-
-// The cells a chart touches at one scale, in its own turned frame: a column-major bitmap and
-// the grid's origin in that frame.
-struct CellMask {
-  int width = 0, height = 0;
-  Eigen::Vector2d base;
-  std::vector<char> bits;  // bits[x * height + y]
-};
-
-CellMask cellMask(const ChartShape& chart, const Eigen::Matrix2d& rotation, double scale,
-                  double margin) {
-  CellMask mask;
-  std::vector<Eigen::Vector2d> p(chart.uv.size());
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
-  Eigen::Vector2d high = -low;
-  for (size_t i = 0; i < p.size(); ++i) {
-    p[i] = rotation * chart.uv[i] * scale;
-    low = low.cwiseMin(p[i]), high = high.cwiseMax(p[i]);
-  }
-  mask.base = (low - Eigen::Vector2d::Constant(margin)).array().floor();
-  mask.width = static_cast<int>(std::floor(high.x() + margin - mask.base.x())) + 1;
-  mask.height = static_cast<int>(std::floor(high.y() + margin - mask.base.y())) + 1;
-  mask.bits.assign(static_cast<size_t>(mask.width) * mask.height, 0);
-  for (const auto& t : chart.triangles) {
-    const Eigen::Vector2d q[3] = {p[t[0]] - mask.base, p[t[1]] - mask.base, p[t[2]] - mask.base};
-    conservativeCells(q, margin, mask.width, mask.height, [&](int x, int y) {
-      mask.bits[static_cast<size_t>(x) * mask.height + y] = 1;
-    });
-  }
-  return mask;
-}
-
-// The mask of the chart turned a quarter counter-clockwise, (x, y) -> (-y, x): cell (X, Y) of
-// the grid becomes cell (-Y - 1, X), exactly, so the turned chart's cells need no new raster.
-CellMask quarterTurned(const CellMask& m) {
-  CellMask t;
-  t.width = m.height;
-  t.height = m.width;
-  t.base = Eigen::Vector2d(-m.base.y() - m.height, m.base.x());
-  t.bits.assign(m.bits.size(), 0);
-  for (int x = 0; x < m.width; ++x)
-    for (int y = 0; y < m.height; ++y)
-      t.bits[static_cast<size_t>(m.height - 1 - y) * t.height + x] =
-          m.bits[static_cast<size_t>(x) * m.height + y];
-  return t;
-}
-
-Footprint footprint(const CellMask& mask, int reach) {
+// The footprint of a chart whose points, turned and scaled, are `p`. Each triangle touches one
+// run of cells per column (it is convex), found by the row spans of the transposed triangle, so
+// the cost follows the triangles' outlines, not the chart's area in texels.
+Footprint footprint(const std::vector<Eigen::Vector2d>& p,
+                    const std::vector<std::array<int, 3>>& triangles, double margin, int reach,
+                    int size) {
   Footprint fp;
   fp.reach = reach;
-  fp.width = mask.width;
-  fp.height = mask.height;
-  fp.base = mask.base;
-  fp.cells.resize(fp.width);
-  std::vector<char> column(fp.height);
-  for (int x = 0; x < fp.width; ++x) {
-    std::copy_n(mask.bits.begin() + static_cast<size_t>(x) * fp.height, fp.height, column.begin());
-    fp.cells[x] = runsOf(column);
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high = -low;
+  for (const Eigen::Vector2d& q : p) low = low.cwiseMin(q), high = high.cwiseMax(q);
+  // Larger than the texture (or not finite): it cannot be placed, and is not rastered.
+  const Eigen::Vector2d extent = high - low;
+  if (!(extent.maxCoeff() < size)) {
+    fp.width = fp.height = size + 1;
+    return fp;
   }
-  // Grown: each column's runs widened by reach, then spread over reach columns either side.
-  const int gw = fp.width + 2 * reach, gh = fp.height + 2 * reach;
-  std::vector<std::vector<char>> grown(gw, std::vector<char>(gh, 0));
-  for (int x = 0; x < fp.width; ++x)
-    for (const auto& [lo, hi] : fp.cells[x])
-      for (int j = x; j <= x + 2 * reach; ++j)
-        std::fill(grown[j].begin() + lo, grown[j].begin() + hi + 2 * reach + 1, 1);
-  fp.grown.resize(gw);
-  for (int j = 0; j < gw; ++j) {
-    fp.grown[j] = runsOf(grown[j]);
-    for (auto& run : fp.grown[j]) run.first -= reach, run.second -= reach;
+  fp.base = (low - Eigen::Vector2d::Constant(margin)).array().floor();
+  fp.width = static_cast<int>(std::floor(high.x() + margin - fp.base.x())) + 1;
+  fp.height = static_cast<int>(std::floor(high.y() + margin - fp.base.y())) + 1;
+  fp.cells.resize(fp.width);
+  for (const auto& t : triangles) {
+    Eigen::Vector2d q[3];
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d r = p[t[k]] - fp.base;
+      q[k] = Eigen::Vector2d(r.y(), r.x());  // transposed: a row of q is a column of cells
+    }
+    conservativeSpans(q, margin, fp.height, fp.width,
+                      [&](int x, int y0, int y1) { fp.cells[x].emplace_back(y0, y1); });
+  }
+  for (Runs& column : fp.cells) mergeRuns(column);
+  // Grown: column j gathers the runs of columns j - 2 reach ... j, each widened by reach.
+  fp.grown.resize(fp.width + 2 * reach);
+  for (int j = 0; j < static_cast<int>(fp.grown.size()); ++j) {
+    Runs& column = fp.grown[j];
+    for (int i = std::max(0, j - 2 * reach); i <= std::min(fp.width - 1, j); ++i)
+      for (const auto& [lo, hi] : fp.cells[i]) column.emplace_back(lo - reach, hi + reach);
+    mergeRuns(column);
   }
   return fp;
 }
@@ -200,6 +169,7 @@ class Occupancy {
         for (int i = 0; i < fp.width; ++i)
           if (!columns_[x + i].empty() && !fp.cells[i].empty())
             y = std::max(y, columns_[x + i].back().second + 1 - fp.cells[i].front().first);
+        if (y >= give_up) return INT_MAX;
         break;
       }
       for (int i = 0; i < fp.width; ++i) {
@@ -211,6 +181,7 @@ class Occupancy {
                                [](const std::pair<int, int>& r, int v) { return r.second < v; });
           if (it != column.end() && it->first <= y + hi) {
             y = it->second + 1 - lo;
+            if (y >= give_up) return INT_MAX;
             moved = true;
           }
         }
@@ -228,14 +199,7 @@ class Occupancy {
         runs.emplace_back(y + lo, y + hi);
         top_ = std::max(top_, y + hi + 1 - fp.reach);
       }
-      std::sort(runs.begin(), runs.end());
-      Runs merged;
-      for (const auto& r : runs)
-        if (!merged.empty() && r.first <= merged.back().second + 1)
-          merged.back().second = std::max(merged.back().second, r.second);
-        else
-          merged.push_back(r);
-      runs.swap(merged);
+      mergeRuns(runs);
     }
   }
   int top() const { return top_; }  // one above the highest chart cell
@@ -262,11 +226,14 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
       }
     } best;
     Footprint chosen;
-    CellMask mask = cellMask(charts[c], box[c], scale, options.margin);
+    std::vector<Eigen::Vector2d> p(charts[c].uv.size());
+    for (size_t i = 0; i < p.size(); ++i) p[i] = box[c] * charts[c].uv[i] * scale;
     for (int turn = 0; turn < 4; ++turn) {
-      if (turn > 0) mask = quarterTurned(mask);
-      Footprint fp = footprint(mask, reach);
-      if (fp.width > size) continue;
+      // A quarter turn (x, y) -> (-y, x) is exact in floating point.
+      if (turn > 0)
+        for (Eigen::Vector2d& q : p) q = Eigen::Vector2d(-q.y(), q.x());
+      Footprint fp = footprint(p, charts[c].triangles, options.margin, reach, size);
+      if (fp.width > size || fp.height > size) continue;
       const int last = size - fp.width;
       // Every `stride`-th column (at most 256 of them), then every column around the best.
       const int stride = std::max({1, fp.width / 8, size / 256});
@@ -327,7 +294,19 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
   // the smallest that did not.
   std::vector<Placement> trial(n);
   double fits = 0, fails = std::numeric_limits<double>::infinity();
+  // No chart can be longer than the texture: the first try is below that, not found by halving.
+  double longest = 0;
+  for (int c = 0; c < n; ++c) {
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+    Eigen::Vector2d high = -low;
+    for (const Eigen::Vector2d& q : charts[c].uv) {
+      const Eigen::Vector2d r = box[c] * q;
+      low = low.cwiseMin(r), high = high.cwiseMax(r);
+    }
+    longest = std::max(longest, (high - low).maxCoeff());
+  }
   double scale = 0.85 * full;
+  if (longest > 0 && scale * longest > size - 2) scale = (size - 2) / longest;
   for (int attempt = 0; attempt < 10 && fails > 1.005 * fits; ++attempt) {
     ++packing.attempts;
     const int height = packAt(charts, box, order, scale, options, trial);

@@ -11,12 +11,13 @@
 
 namespace sdp::atlas {
 
-// Calls visit(x, y) for every cell of the grid [0, width) x [0, height) that the triangle,
-// grown by `margin` texels, touches: row by row, the triangle's extent within the row's slab
-// (itself grown by the margin), so each row is one span.
-template <class Visit>
-void conservativeCells(const Eigen::Vector2d p[3], double margin, int width, int height,
-                       Visit&& visit) {
+// Calls visit(y, x0, x1) for every row y of the grid [0, width) x [0, height) that the
+// triangle, grown by `margin` texels, touches, with the span [x0, x1] of cells it touches there:
+// the triangle's extent within the row's slab (itself grown by the margin), so each row is one
+// span.
+template <class VisitSpan>
+void conservativeSpans(const Eigen::Vector2d p[3], double margin, int width, int height,
+                       VisitSpan&& visit) {
   const double y_low = std::min({p[0].y(), p[1].y(), p[2].y()});
   const double y_high = std::max({p[0].y(), p[1].y(), p[2].y()});
   const int row0 = std::max(0, static_cast<int>(std::floor(y_low - margin)));
@@ -37,14 +38,25 @@ void conservativeCells(const Eigen::Vector2d p[3], double margin, int width, int
     if (!(x_low <= x_high)) continue;
     const int x0 = std::max(0, static_cast<int>(std::floor(x_low - margin)));
     const int x1 = std::min(width - 1, static_cast<int>(std::floor(x_high + margin)));
-    for (int x = x0; x <= x1; ++x) visit(x, y);
+    if (x0 <= x1) visit(y, x0, x1);
   }
 }
 
-// Calls visit(x, y) for every pixel of [0, width) x [0, height) whose centre the triangle
-// covers, by the top-left rule (either winding; zero-area triangles cover nothing).
+// Calls visit(x, y) for every cell of the grid that the triangle, grown by `margin` texels,
+// touches (conservativeSpans, cell by cell).
 template <class Visit>
-void coveredPixels(const Eigen::Vector2d q[3], int width, int height, Visit&& visit) {
+void conservativeCells(const Eigen::Vector2d p[3], double margin, int width, int height,
+                       Visit&& visit) {
+  conservativeSpans(p, margin, width, height, [&](int y, int x0, int x1) {
+    for (int x = x0; x <= x1; ++x) visit(x, y);
+  });
+}
+
+// Calls visit(x, y) for every pixel of [0, width) x [row_begin, row_end) whose centre the
+// triangle covers, by the top-left rule (either winding; zero-area triangles cover nothing).
+template <class Visit>
+void coveredPixelsInRows(const Eigen::Vector2d q[3], int width, int row_begin, int row_end,
+                         Visit&& visit) {
   Eigen::Vector2d p[3] = {q[0], q[1], q[2]};
   double twice_area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[1] - p[0]).y() * (p[2] - p[0]).x();
   if (!(twice_area != 0) || !std::isfinite(twice_area)) return;
@@ -53,10 +65,10 @@ void coveredPixels(const Eigen::Vector2d q[3], int width, int height, Visit&& vi
       std::max(0, static_cast<int>(std::ceil(std::min({p[0].x(), p[1].x(), p[2].x()}) - 0.5)));
   const int x1 = std::min(
       width - 1, static_cast<int>(std::floor(std::max({p[0].x(), p[1].x(), p[2].x()}) - 0.5)));
-  const int y0 =
-      std::max(0, static_cast<int>(std::ceil(std::min({p[0].y(), p[1].y(), p[2].y()}) - 0.5)));
+  const int y0 = std::max(
+      row_begin, static_cast<int>(std::ceil(std::min({p[0].y(), p[1].y(), p[2].y()}) - 0.5)));
   const int y1 = std::min(
-      height - 1, static_cast<int>(std::floor(std::max({p[0].y(), p[1].y(), p[2].y()}) - 0.5)));
+      row_end - 1, static_cast<int>(std::floor(std::max({p[0].y(), p[1].y(), p[2].y()}) - 0.5)));
   // An edge a -> b owns the centres exactly on it when it runs up, or runs left along a row:
   // the edge shared by two triangles runs the other way in the other, which then does not.
   bool owns[3];
@@ -75,6 +87,12 @@ void coveredPixels(const Eigen::Vector2d q[3], int width, int height, Visit&& vi
       }
       if (inside) visit(x, y);
     }
+}
+
+// The pixels of [0, width) x [0, height) whose centre the triangle covers (above).
+template <class Visit>
+void coveredPixels(const Eigen::Vector2d q[3], int width, int height, Visit&& visit) {
+  coveredPixelsInRows(q, width, 0, height, visit);
 }
 
 }  // namespace sdp::atlas
