@@ -2,28 +2,32 @@
 # One command for every benchmark table and plot in the README:
 #   bash bench/run.sh            quality tables, paper Table 1, scaling (CGAL up to 1.65M vertices),
 #                                the defaults against the linear map and SLIM, the same bytes on
-#                                every run, the mesh readers against vcglib's (~25 min)
+#                                every run, the mesh readers against vcglib's, atlases of whole
+#                                models against xatlas, Blender and MeshLab (~60 min)
 #   bash bench/run.sh --quick    small meshes only (a smoke run, a few minutes)
 # Results go to bench/results/ (Markdown, CSV, PNG) and into the README between bench markers.
 set -euo pipefail
 repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo_dir"
 bash scripts/install-deps.sh
-.venv/bin/python -m pip install --disable-pip-version-check -q matplotlib
+.venv/bin/python -m pip install --disable-pip-version-check -q matplotlib "xatlas==0.0.11"
 # Blender as a peer (pip bpy 5.0.1, GPL: bench only, in a venv of its own, never the product's).
 if [[ ! -x .venv-blender/bin/python ]]; then /usr/bin/python3 -m venv .venv-blender; fi
 .venv-blender/bin/python -m pip install --disable-pip-version-check -q "bpy==5.0.1"
 build_dir="${SDP_BUILD_DIR:-$repo_dir/build}"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_cgal_peer straightest_param sdp_reader_bench sdp_png_bench
+cmake --build "$build_dir" -j"$(nproc)" --target sdp_bench sdp_score sdp_atlas_score sdp_cgal_peer straightest_param sdp_reader_bench sdp_png_bench
 .venv/bin/python bench/run.py --build-dir "$build_dir" "$@"
 # What a user gets by default (refined), against the linear map and SLIM (README *Defaults*).
 if [[ "${1:-}" == "--quick" ]]; then
   .venv/bin/python bench/defaults.py --build "$build_dir"
+  .venv/bin/python bench/atlas.py --build "$build_dir" --only decimated-knight,bunny
 else
   .venv/bin/python bench/defaults.py --build "$build_dir" --scaling --readme README.md
   # The same bytes quiet, loaded and on one core; the work model against the clock.
   .venv/bin/python bench/determinism.py --build "$build_dir" --readme README.md
   # Our mesh readers against vcglib's importers (README *Reading mesh files*).
   .venv/bin/python bench/readers.py --build "$build_dir" --readme README.md
+  # Atlases of whole models against xatlas, Blender and MeshLab's own (README *Atlas*).
+  .venv/bin/python bench/atlas.py --build "$build_dir" --big --readme README.md
 fi

@@ -1,0 +1,379 @@
+#!/usr/bin/env python3
+"""Atlases of whole models, every method scored by the project's own measures from the file it
+wrote (bench/atlas_score.cpp over core/atlas/measure.h): charts, seam, L2, L-infinity, flipped
+faces, mirrored charts, overlapping pixels and gutter violations at the texture size, efficiency,
+seconds (each tool's own work) and peak memory (each tool runs in a process of its own).
+
+    python3 bench/atlas.py [--build build] [--shared ../shared] [--big] [--readme README.md]
+                           [--texture-size 4096] [--gutter 2] [--xatlas-big-limit 2400]
+                           [--brute-limit 30] [--methods ours,xatlas,...] [--only MODEL,...]
+
+Methods: ours (straightest_param --atlas), xatlas 0.0.11 (defaults, and bruteForce packing),
+Blender 5.0.1 (Smart UV Project, Minimum Stretch, Pack Islands: bench/blender_atlas_peer.py, in
+.venv-blender), MeshLab's Voronoi Atlas and Trivial Per-Triangle (pymeshlab). Meshes: the shared
+closed/ models, pymeshlab's sample models, and with --big closed/armadillo.obj subdivided 1-to-4
+twice (1.38M faces; xatlas there once, under a time limit). Every model is first written as one
+triangle OFF (read by pymeshlab), so that every method gets the same triangles.
+
+Writes bench/results/atlas.md, atlas.csv, atlas_*.png and, with --readme, the README's
+bench:atlas block."""
+import argparse
+import csv
+import json
+import os
+import pathlib
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = pathlib.Path(__file__).resolve().parent
+REPO = HERE.parent
+sys.path.insert(0, str(HERE))
+from run import replace_block  # noqa: E402
+
+METHODS = ["ours", "xatlas", "xatlas-brute", "blender", "voronoi", "trivial"]
+LABELS = {
+    "ours": "this project",
+    "xatlas": "xatlas 0.0.11",
+    "xatlas-brute": "xatlas, bruteForce",
+    "blender": "Blender 5.0.1",
+    "voronoi": "MeshLab Voronoi Atlas",
+    "trivial": "MeshLab Trivial Per-Triangle",
+}
+
+
+def write_off(path, V, F):
+    with open(path, "w") as out:
+        out.write(f"OFF\n{len(V)} {len(F)} 0\n")
+        out.write("".join(f"{x:.17g} {y:.17g} {z:.17g}\n" for x, y, z in V))
+        out.write("".join(f"3 {a} {b} {c}\n" for a, b, c in F))
+
+
+def subdivide(V, F):
+    """1-to-4 midpoint subdivision (each edge's midpoint made once)."""
+    edges = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    unique, inverse = np.unique(edges, axis=0, return_inverse=True)
+    mid = len(V) + inverse.reshape(3, -1).T  # per face: midpoints of edges 01, 12, 20
+    V2 = np.concatenate([V, 0.5 * (V[unique[:, 0]] + V[unique[:, 1]])])
+    a, b, c = F[:, 0], F[:, 1], F[:, 2]
+    m01, m12, m20 = mid[:, 0], mid[:, 1], mid[:, 2]
+    F2 = np.concatenate([np.stack(t, 1) for t in
+                         ([a, m01, m20], [m01, b, m12], [m20, m12, c], [m01, m12, m20])])
+    return V2, F2
+
+
+def prepare_models(shared, cache, big):
+    """(name, triangle OFF path) for every model, written once into `cache`."""
+    import pymeshlab
+    sources = sorted((shared / "meshes" / "closed").glob("*.*"))
+    samples = pathlib.Path(pymeshlab.__file__).parent / "tests" / "sample_meshes"
+    sources += [samples / n for n in ("bunny.obj", "cow.obj", "airplane.obj", "bone.ply")]
+    models = []
+    for source in sources:
+        if not source.exists():
+            print(f"atlas bench: {source} missing, left out", file=sys.stderr)
+            continue
+        name = source.stem if source.parent.name == "closed" else f"{source.stem} (pymeshlab)"
+        target = cache / (name.replace(" ", "_").replace("(", "").replace(")", "") + ".off")
+        if not target.exists():
+            ms = pymeshlab.MeshSet()
+            ms.load_new_mesh(str(source))
+            m = ms.current_mesh()
+            write_off(target, m.vertex_matrix(), m.face_matrix())
+        models.append((name, target))
+    if big:
+        target = cache / "armadillo_x16.off"
+        if not target.exists():
+            ms = pymeshlab.MeshSet()
+            ms.load_new_mesh(str(shared / "meshes" / "closed" / "armadillo.obj"))
+            V, F = ms.current_mesh().vertex_matrix(), ms.current_mesh().face_matrix()
+            for _ in range(2):
+                V, F = subdivide(V, F)
+            write_off(target, V, F)
+        models.append(("armadillo x16 (1.38M faces)", target))
+    return models
+
+
+def run_with_rusage(command, timeout=None):
+    """Runs `command` in its own process; returns (stdout, stderr, returncode, peak MB)."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        process = subprocess.Popen(command, stdout=out, stderr=err, text=True)
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while True:
+            pid, status, usage = os.wait4(process.pid, os.WNOHANG)
+            if pid:
+                break
+            if deadline is not None and time.monotonic() > deadline:
+                process.kill()
+                _, status, usage = os.wait4(process.pid, 0)
+                process.returncode = -9
+                out.seek(0)
+                return out.read(), f"stopped at the time limit of {timeout} s", -9, None
+            time.sleep(0.05)
+        process.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        return out.read(), err.read(), process.returncode, usage.ru_maxrss / 1024.0
+
+
+def method_command(method, args, mesh, out_obj):
+    size, gutter = str(args.texture_size), str(args.gutter)
+    venv = REPO / ".venv" / "bin" / "python"
+    if method == "ours":
+        return [str(args.build / "bin" / "straightest_param"), str(mesh), str(out_obj), "--atlas",
+                "--texture-size", size, "--gutter", gutter, "--quiet", "--report",
+                str(out_obj.with_suffix(".json"))]
+    if method == "blender":
+        return [str(REPO / ".venv-blender" / "bin" / "python"),
+                str(HERE / "blender_atlas_peer.py"), str(mesh), str(out_obj), size, gutter]
+    return [str(venv), str(HERE / "atlas_peers.py"), method, str(mesh), str(out_obj), size, gutter]
+
+
+def run_method(method, args, mesh, folder, timeout=None):
+    out_obj = folder / f"{method}.obj"
+    out, err, code, peak_mb = run_with_rusage(method_command(method, args, mesh, out_obj), timeout)
+    row = {"method": method, "peak_mb": peak_mb}
+    if code != 0 or not out_obj.exists():
+        row["failed"] = (err.strip().splitlines() or [f"exit {code}"])[-1][:160]
+        return row
+    if method == "ours":
+        report = json.loads(out_obj.with_suffix(".json").read_text())
+        row["seconds"] = report["seconds"]
+    else:
+        said = json.loads(out.strip().splitlines()[-1])
+        if "refused" in said:
+            row["failed"] = said["refused"][:160]
+            return row
+        row.update(said)
+    weld = ["--weld"] if method == "voronoi" else []
+    score = subprocess.run([str(args.build / "bin" / "sdp_atlas_score"), str(out_obj),
+                            str(args.texture_size), str(args.gutter)] + weld,
+                           capture_output=True, text=True)
+    if score.returncode != 0:
+        row["failed"] = "scorer: " + score.stderr.strip()[:150]
+        return row
+    row.update(json.loads(score.stdout))
+    row["obj"] = out_obj
+    return row
+
+
+def hard_gates_ok(r):
+    return (r.get("flipped_faces") == 0 and r.get("mirrored_charts") == 0 and
+            r.get("overlapping_pixels") == 0 and r.get("gutter_violations") == 0 and
+            r.get("outside_faces") == 0 and r.get("uncharted_faces") == 0)
+
+
+def fmt(value, spec):
+    return "–" if value is None else format(value, spec)
+
+
+def table(rows_by_model, methods):
+    head = ("| model | method | charts | seam | L2 | L∞ | flipped | mirrored | overlapping px | "
+            "gutter px | efficiency | s | peak MB |\n"
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n")
+    lines = []
+    for model, rows in rows_by_model:
+        input_faces = next((r["faces"] for r in rows if r["method"] == "ours" and "faces" in r),
+                           None)
+        for r in rows:
+            if r["method"] not in methods:
+                continue
+            label = LABELS[r["method"]]
+            if input_faces is not None and r.get("faces", input_faces) != input_faces:
+                label += f" ({r['faces']} faces written for {input_faces})"
+            if "failed" in r:
+                lines.append(f"| {model} | {label} | failed: {r['failed']} "
+                             "| | | | | | | | | | |")
+                continue
+            lines.append(
+                f"| {model} | {label} | {r['charts']} | {fmt(r['seam'], '.1f')} | "
+                f"{fmt(r['l2'], '.4f')} | {fmt(r['linf'], '.3g')} | {r['flipped_faces']} | "
+                f"{r['mirrored_charts']} | {r['overlapping_pixels']} | {r['gutter_violations']} | "
+                f"{fmt(r['efficiency'], '.3f')} | {fmt(r.get('seconds'), '.2f')} | "
+                f"{fmt(r.get('peak_mb'), '.0f')} |")
+    return head + "\n".join(lines) + "\n"
+
+
+def summary(rows_by_model):
+    """Set-level figures of the issue's targets, ours against xatlas (defaults), same run."""
+    common = []
+    for model, rows in rows_by_model:
+        by = {r["method"]: r for r in rows}
+        if "failed" in by.get("ours", {"failed": 1}) or "failed" in by.get("xatlas", {"failed": 1}):
+            continue
+        common.append((model, by["ours"], by["xatlas"]))
+    if not common:
+        return "No model with both ours and xatlas.\n"
+    total = lambda key, who: sum(t[who][key] for t in common)  # noqa: E731
+    ours_rows = [t[1] for t in common]
+    xa_rows = [t[2] for t in common]
+    lines = [
+        f"Over the {len(common)} models where both ran (ours against xatlas with its defaults, "
+        "same run):",
+        "",
+        "| measure | this project | xatlas | ratio | target |",
+        "| --- | --- | --- | --- | --- |",
+        f"| models passing every hard gate | {sum(hard_gates_ok(r) for r in ours_rows)} | "
+        f"{sum(hard_gates_ok(r) for r in xa_rows)} | | all |",
+        f"| largest L2 | {max(r['l2'] for r in ours_rows):.4f} | "
+        f"{max(r['l2'] for r in xa_rows):.4f} | | ≤ 1.05 |",
+        f"| total charts | {total('charts', 1)} | {total('charts', 2)} | "
+        f"{total('charts', 1) / total('charts', 2):.2f} | ≤ 0.5 |",
+        f"| total seam | {total('seam', 1):.1f} | {total('seam', 2):.1f} | "
+        f"{total('seam', 1) / total('seam', 2):.2f} | ≤ 0.75 |",
+        f"| median L∞ | {statistics.median(r['linf'] for r in ours_rows):.3g} | "
+        f"{statistics.median(r['linf'] for r in xa_rows):.3g} | | ours below |",
+        f"| median efficiency | {statistics.median(r['efficiency'] for r in ours_rows):.3f} | "
+        f"{statistics.median(r['efficiency'] for r in xa_rows):.3f} | | ≥ 0.70 |",
+        f"| lowest efficiency | {min(r['efficiency'] for r in ours_rows):.3f} | "
+        f"{min(r['efficiency'] for r in xa_rows):.3f} | | ≥ 0.60 |",
+        f"| total seconds | {total('seconds', 1):.1f} | {total('seconds', 2):.1f} | "
+        f"{total('seconds', 1) / total('seconds', 2):.2f} | ≤ 0.5 |",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def method_totals(rows_by_model, methods):
+    """One row per method over the models it was run on: how often it passed every hard gate,
+    and its totals and medians."""
+    lines = ["| method | models written | passing every hard gate | total charts | total seam | "
+             "median L2 | median L∞ | median efficiency | total s | largest peak MB |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for method in methods:
+        tried = [r for _, rows in rows_by_model for r in rows if r["method"] == method]
+        done = [r for r in tried if "failed" not in r]
+        if not tried:
+            continue
+        if not done:
+            lines.append(f"| {LABELS[method]} | 0 of {len(tried)} | | | | | | | | |")
+            continue
+        peaks = [r["peak_mb"] for r in done if r.get("peak_mb")]
+        lines.append(
+            f"| {LABELS[method]} | {len(done)} of {len(tried)} | "
+            f"{sum(hard_gates_ok(r) for r in done)} | {sum(r['charts'] for r in done)} | "
+            f"{sum(r['seam'] for r in done):.1f} | "
+            f"{statistics.median(r['l2'] for r in done):.4f} | "
+            f"{statistics.median(r['linf'] for r in done):.3g} | "
+            f"{statistics.median(r['efficiency'] for r in done):.3f} | "
+            f"{sum(r.get('seconds', 0) for r in done):.1f} | "
+            f"{max(peaks) if peaks else 0:.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def pictures(model, rows, out_png, size=300):
+    """Each method's checkerboard on the model and its UV layout, side by side."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+    import render
+
+    rows = [r for r in rows if "obj" in r]
+    fig, axes = plt.subplots(2, len(rows), figsize=(2.6 * len(rows), 5.4), squeeze=False)
+    for column, r in enumerate(rows):
+        vertices, texcoords, faces, face_tex = render.read_obj(r["obj"])
+        uv = texcoords[face_tex]
+        face_id, bary = render.rasterize(vertices, faces, size)
+        covered = face_id >= 0
+        light = render.shade(vertices, faces, face_id)[..., None]
+        pixel_uv = np.einsum("hwk,hwkd->hwd", bary, uv[np.maximum(face_id, 0)])
+        image = render.checker_colour(pixel_uv, checkers=32) * light
+        image[~covered] = 1.0
+        axes[0, column].imshow(image, origin="lower")
+        axes[0, column].set_title(LABELS[r["method"]], fontsize=8)
+        axes[1, column].add_collection(PolyCollection(uv, facecolors="#4878a8", edgecolors="none"))
+        axes[1, column].set_xlim(0, 1)
+        axes[1, column].set_ylim(0, 1)
+        axes[1, column].set_aspect("equal")
+        axes[1, column].set_title(f"{r['charts']} charts, eff. {r['efficiency']:.2f}", fontsize=8)
+        for ax in axes[:, column]:
+            ax.set_xticks([])
+            ax.set_yticks([])
+    fig.suptitle(model, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--build", type=pathlib.Path, default=REPO / "build")
+    parser.add_argument("--shared", type=pathlib.Path, default=REPO.parent / "shared")
+    parser.add_argument("--texture-size", type=int, default=4096)
+    parser.add_argument("--gutter", type=int, default=2)
+    parser.add_argument("--big", action="store_true", help="add the 1.38M-face armadillo")
+    parser.add_argument("--xatlas-big-limit", type=float, default=2400.0,
+                        help="seconds for xatlas on the 1.38M-face model")
+    parser.add_argument("--brute-limit", type=float, default=30.0,
+                        help="seconds for xatlas's bruteForce packing on one model")
+    parser.add_argument("--methods", default=",".join(METHODS))
+    parser.add_argument("--only", help="comma-separated model names (a quick run)")
+    parser.add_argument("--readme", type=pathlib.Path)
+    args = parser.parse_args()
+    args.build = args.build.resolve()
+    methods = args.methods.split(",")
+    cache = pathlib.Path.home() / ".cache" / "straightest-param" / "atlas-bench"
+    cache.mkdir(parents=True, exist_ok=True)
+    results = REPO / "bench" / "results"
+    models = prepare_models(args.shared, cache, args.big)
+    if args.only:
+        models = [m for m in models if m[0] in args.only.split(",")]
+    work = pathlib.Path(tempfile.mkdtemp(prefix="atlas-bench-"))
+    rows_by_model = []
+    csv_rows = []
+    for name, mesh in models:
+        big = name.startswith("armadillo x16")
+        folder = work / mesh.stem
+        folder.mkdir()
+        rows = []
+        for method in methods:
+            if big and method in ("xatlas-brute", "voronoi", "trivial"):
+                continue  # one xatlas run at this size; MeshLab's filters are not the peers here
+            timeout = (args.xatlas_big_limit if big and method == "xatlas" else
+                       args.brute_limit if method == "xatlas-brute" else None)
+            r = run_method(method, args, mesh, folder, timeout)
+            rows.append(r)
+            print(f"{name:28s} {method:13s} " + (f"failed: {r['failed']}" if "failed" in r else
+                  f"charts {r['charts']:6d} seam {r['seam']:6.1f} L2 {r['l2']:.4f} "
+                  f"Linf {r['linf']:8.3g} flips {r['flipped_faces']} mirr {r['mirrored_charts']} "
+                  f"overlap {r['overlapping_pixels']} gutter {r['gutter_violations']} "
+                  f"eff {r['efficiency']:.3f} {r.get('seconds', 0):.2f}s "
+                  f"{r.get('peak_mb') or 0:.0f}MB"), flush=True)
+            csv_rows.append({"model": name, **{k: v for k, v in r.items() if k != "obj"}})
+        rows_by_model.append((name, rows))
+    picture_models = [m for m in ("bunny", "fertility") if any(n == m for n, _ in rows_by_model)]
+    picture_lines = []
+    for model in picture_models:
+        png = results / f"atlas_{model}.png"
+        pictures(model, dict(rows_by_model)[model], png)
+        picture_lines.append(f"![{model}: each method's checkerboard and UV layout]"
+                             f"(bench/results/{png.name})")
+    keys = sorted({k for r in csv_rows for k in r})
+    with open(results / "atlas.csv", "w", newline="") as out:
+        writer = csv.DictWriter(out, fieldnames=keys)
+        writer.writeheader()
+        writer.writerows(csv_rows)
+    head = (f"Texture {args.texture_size}², gutter {args.gutter} texels, {len(rows_by_model)} "
+            "models; every figure is computed by `bench/atlas_score.cpp` from the OBJ each "
+            "method wrote; seconds are each tool's own work, peak MB its process's (a Python "
+            "process for the peers). Hard gates: no flipped face, no mirrored chart, no pixel "
+            "covered twice, the gutter kept, every face charted inside the unit square. Made by "
+            f"`python3 bench/atlas.py{' --big' if args.big else ''}`.\n\n")
+    short = head + summary(rows_by_model) + "\n" + method_totals(rows_by_model, methods)
+    body = short + "\n" + table(rows_by_model, methods) + "\n" + "\n\n".join(picture_lines) + "\n"
+    (results / "atlas.md").write_text(body)
+    print(body)
+    if args.readme:
+        readme_body = (short + "\nEvery model and method: [bench/results/atlas.md]"
+                       "(bench/results/atlas.md).\n\n" + "\n\n".join(picture_lines) + "\n")
+        args.readme.write_text(replace_block(args.readme.read_text(), "atlas", readme_body))
+    shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()

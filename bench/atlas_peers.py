@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""Atlas peers for bench/atlas.py, each run in a process of its own (so that its peak memory is
+its own): xatlas (pip `xatlas` 0.0.11) and MeshLab's own atlas filters through pymeshlab.
+
+usage: atlas_peers.py METHOD MESH.off OUT.obj TEXTURE_SIZE GUTTER
+  METHOD  xatlas          default chart and pack options, resolution TEXTURE_SIZE, padding GUTTER
+          xatlas-brute    the same with bruteForce packing
+          voronoi         MeshLab *Parametrization: Voronoi Atlas* with its defaults
+          trivial         MeshLab *Parametrization: Trivial Per-Triangle*, its defaults except the
+                          texture size (the first of TEXTURE_SIZE, 2x, 4x... that it accepts)
+Writes OUT.obj (v, vt, f v/vt: the input's vertices where the tool keeps them) and prints one JSON
+object: seconds (the tool's own work, not reading or writing files) and what the tool says."""
+import json
+import sys
+import time
+
+import numpy as np
+
+
+def read_off(path):
+    words = open(path).read().split()
+    assert words[0] == "OFF"
+    nv, nf = int(words[1]), int(words[2])
+    at = 4
+    V = np.array(words[at:at + 3 * nv], dtype=np.float64).reshape(nv, 3)
+    at += 3 * nv
+    F = np.array(words[at:at + 4 * nf], dtype=np.int64).reshape(nf, 4)
+    assert (F[:, 0] == 3).all(), "triangles only"
+    return V, F[:, 1:]
+
+
+def write_obj(path, V, face_v, uv, face_uv):
+    with open(path, "w") as out:
+        out.write("".join(f"v {x:.17g} {y:.17g} {z:.17g}\n" for x, y, z in V))
+        out.write("".join(f"vt {u:.9g} {v:.9g}\n" for u, v in uv))
+        out.write("".join(f"f {a + 1}/{ta + 1} {b + 1}/{tb + 1} {c + 1}/{tc + 1}\n"
+                          for (a, b, c), (ta, tb, tc) in zip(face_v, face_uv)))
+
+
+def run_xatlas(mesh, out, size, gutter, brute):
+    import xatlas
+    V, F = read_off(mesh)
+    start = time.perf_counter()
+    atlas = xatlas.Atlas()
+    atlas.add_mesh(V.astype(np.float32), F.astype(np.uint32))
+    pack = xatlas.PackOptions()
+    pack.resolution = size
+    pack.padding = gutter
+    pack.bruteForce = brute
+    atlas.generate(xatlas.ChartOptions(), pack)
+    seconds = time.perf_counter() - start
+    vmapping, indices, uvs = atlas[0]
+    # xatlas's output vertex i is input vertex vmapping[i], so corners keep the input's vertices.
+    write_obj(out, V, vmapping[indices], uvs, indices)
+    return {"seconds": seconds, "tool_charts": int(atlas.chart_count)}
+
+
+def run_meshlab(mesh, out, size, method):
+    import pymeshlab
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(mesh)
+    said = {}
+    start = time.perf_counter()
+    if method == "voronoi":
+        ms.generate_voronoi_atlas_parametrization()
+        # The filter adds layers; the one with wedge texture coordinates is the atlas.
+        for i in range(ms.mesh_number()):
+            ms.set_current_mesh(ms.mesh_id_list()[i] if hasattr(ms, "mesh_id_list") else i)
+            if ms.current_mesh().has_wedge_tex_coord():
+                break
+    else:
+        for attempt in range(6):
+            try:
+                ms.compute_texcoord_parametrization_triangle_trivial_per_wedge(textdim=size << attempt)
+                said["texture_size"] = size << attempt
+                break
+            except pymeshlab.PyMeshLabException as e:
+                said.setdefault("refusals", []).append(f"{size << attempt}: {str(e).strip()}")
+        else:
+            return {"seconds": time.perf_counter() - start, "refused": said["refusals"][-1]}
+    seconds = time.perf_counter() - start
+    m = ms.current_mesh()
+    V = m.vertex_matrix()
+    F = m.face_matrix()
+    wedge = m.wedge_tex_coord_matrix()  # 3F x 2, corner k of face f at row 3f + k
+    uv, face_uv = np.unique(wedge, axis=0, return_inverse=True)
+    write_obj(out, V, F, uv, face_uv.reshape(-1, 3))
+    said["seconds"] = seconds
+    said["vertices_written"] = int(V.shape[0])
+    return said
+
+
+def main():
+    method, mesh, out, size, gutter = sys.argv[1:6]
+    size, gutter = int(size), int(gutter)
+    if method in ("xatlas", "xatlas-brute"):
+        result = run_xatlas(mesh, out, size, gutter, method == "xatlas-brute")
+    elif method in ("voronoi", "trivial"):
+        result = run_meshlab(mesh, out, size, method)
+    else:
+        sys.exit(f"unknown method {method}")
+    print(json.dumps(result))
+
+
+if __name__ == "__main__":
+    main()
