@@ -53,6 +53,12 @@ for mesh in "$bundled"/disk/nefertiti.off "$bundled"/invalid/*.off \
   seed="$corpus/seed_$(basename "$mesh")"
   [[ -f "$seed" ]] || { printf '\x00\x00\x00\x00' > "$seed"; cat "$mesh" >> "$seed"; }
 done
+# The atlas path (byte 3, bit 7): closed, many-piece and bad meshes, 64-texel texture.
+for mesh in "$bundled"/closed/*.off "$bundled"/invalid/*.off "$shared_dir"/meshes/invalid/*.off; do
+  [[ -f "$mesh" ]] || continue
+  seed="$corpus/atlas_seed_$(basename "$mesh")"
+  [[ -f "$seed" ]] || { printf '\x00\x00\x02\x80' > "$seed"; cat "$mesh" >> "$seed"; }
+done
 
 echo "fuzz: replaying $(ls tests/fuzz/regressions | wc -l) regression inputs"
 if compgen -G "tests/fuzz/regressions/*" > /dev/null; then

@@ -4,11 +4,16 @@
 // finding.
 //
 // Input layout: byte 0 picks the format (off, obj, ply), byte 1 the weights, byte 2 the boundary,
-// byte 3 the refinement steps (0-2); the rest is the file.
+// byte 3 the refinement steps (0-2); the rest is the file. With bit 7 of byte 3 set, the file
+// goes through the atlas instead (byte 1 picks a small texture size, byte 2 the gutter, bit 6
+// refines the charts), and a stored atlas with a flipped face, a face without a chart, a UV
+// outside [0,1]^2, pixels covered twice or a broken gutter is a finding.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 
+#include "core/atlas/atlas.h"
+#include "core/atlas/measure.h"
 #include "core/connectivity.h"
 #include "core/parameterize.h"
 #include "mesh_io.h"
@@ -53,6 +58,36 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (component < 0 || component >= c.components) finding("face outside the components");
   if (c.boundary_loops > c.boundary_edges || c.faces != mesh.F.rows())
     finding("inconsistent connectivity counts");
+  if (data[3] & 0x80) {
+    if (mesh.F.rows() > 800) return 0;  // an atlas does more work per face
+    sdp::atlas::AtlasOptions atlas;
+    atlas.texture_size = 64 << (data[1] % 3);
+    atlas.gutter = data[2] % 4;
+    // The charts' refinement (bit 6) is the costly part: most inputs flatten linearly, so the
+    // suite's fixed number of inputs stays within minutes.
+    atlas.chart.stretch_iterations = (data[3] & 0x40) ? 1 : 0;
+    try {
+      const sdp::atlas::AtlasResult r = sdp::atlas::makeAtlas(mesh.V, mesh.F, atlas);
+      const sdp::Layout& layout = r.layout;
+      if (r.report.flipped_faces != 0) finding("atlas reporting flipped faces");
+      if (layout.faceCount() != mesh.F.rows() ||
+          layout.chart.size() != static_cast<size_t>(mesh.F.rows()))
+        finding("atlas layout of the wrong size");
+      if (!layout.uv.allFinite() || layout.uv.minCoeff() < 0 || layout.uv.maxCoeff() > 1)
+        finding("atlas UV not finite or outside the unit square");
+      for (int c : layout.chart)
+        if (c < 0) finding("atlas face without a chart");
+      const sdp::atlas::AtlasMeasures m =
+          sdp::atlas::measureAtlas(mesh.V, mesh.F, layout, atlas.texture_size, atlas.gutter);
+      if (m.flipped_faces != 0 || m.mirrored_charts != 0) finding("atlas flipped or mirrored");
+      if (m.overlapping_pixels != 0 || m.gutter_violations != 0)
+        finding("atlas pixels covered twice or in a gutter");
+    } catch (const sdp::ParameterizationError& e) {
+      const std::string reason = e.what();
+      if (reason.empty() || reason.find('\n') != std::string::npos) finding("bad atlas reason");
+    }
+    return 0;
+  }
   try {
     const sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
     if (result.report.flipped_faces != 0) finding("returned a map reporting flipped faces");

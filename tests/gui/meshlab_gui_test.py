@@ -38,8 +38,12 @@ Screenshots (PNG) and logs go to OUT: 01_before.png, 02_menu.png, 03_dialog.png,
 04_textured.png (and failure.png when a step fails), meshlab.log, xvfb.log, result.txt and
 layout.json (where the menus, the dialog and the 3D view were on screen).
 
+With --filter atlas the same steps and checks run the atlas filter ("Parametrization:
+Straightest Distances Atlas", on a closed mesh; its log line "charts N, ..., flipped_faces 0" and
+its texture straightest_atlas.png).
 usage: meshlab_gui_test.py --plugin libfilter_straightest_param.so --mesh disk.off --out DIR
                            [--prefix DIR | --root DIR --meshlab-version 2022.02|2025.07]
+                           [--filter patch|atlas]
 Python standard library only, plus the Xvfb, xdotool, xwininfo and ImageMagick (import, convert)
 command-line tools. Exit status 0 = pass, 1 = a check failed, 2 = a tool is missing.
 """
@@ -112,6 +116,7 @@ APPLIED_LINE = r"Applied filter:? %s in \d+ msec"
 # filter_straightest_param/checkerboard.cpp: light squares, dark squares, grid lines.
 CHECKER_COLOURS = {(235, 235, 235), (40, 40, 40), (200, 40, 40)}
 TEXTURE_NAME = "straightest_checker.png"  # default of the `texturename` parameter
+ATLAS_TEXTURE_NAME = "straightest_atlas.png"  # the atlas filter's default
 
 STEP_TIMEOUT = 60.0   # seconds for any one wait (window, render, log line)
 TOTAL_TIMEOUT = 240.0  # the whole run, below the ctest TIMEOUT so that cleanup always runs
@@ -396,7 +401,12 @@ def passed(name, detail):
     log_line("PASS %-8s %s" % (name, detail))
 
 
+def texture_name(args):
+    return ATLAS_TEXTURE_NAME if args.filter == "atlas" else TEXTURE_NAME
+
+
 def run_test(args, gui):
+    target = ATLAS_FILTER_NAME if args.filter == "atlas" else FILTER_NAME
     out = args.out
     if args.root:
         # Everything MeshLab reads or writes lives in the root, under one folder per run.
@@ -505,7 +515,7 @@ def run_test(args, gui):
     _, (mx, my, mw, mh) = texture_menu[0]
     # QString order = code units; the atlas sorts right after the patch filter.
     names = sorted(TEXTURE_FILTERS[args.meshlab_version] + [FILTER_NAME, ATLAS_FILTER_NAME])
-    index = names.index(FILTER_NAME)
+    index = names.index(target)
     if index:
         gui.key(*(["Down"] * index))
     menu_path = os.path.join(out, "02_menu.png")
@@ -534,18 +544,18 @@ def run_test(args, gui):
     LAYOUT["menus"] = [list(g) for _, g in filters_menu + texture_menu]
     passed("menu", "Texture submenu %dx%d+%d+%d open with %d rows, row %d highlighted (y %d..%d)"
            " = where '%s' sorts" % (mw, mh, mx, my, rows, index, my + top,
-                                    my + top + height - 1, FILTER_NAME))
+                                    my + top + height - 1, target))
 
     # --- the parameter dialog ---------------------------------------------------------------
     gui.key("Return")
-    dialog_title = "^%s$" % re.escape(FILTER_NAME)
+    dialog_title = "^%s$" % re.escape(target)
     try:
         dialog = gui.wait_window(dialog_title, timeout=30)[0]
     except CheckFailed:
         others = gui.run("xdotool", "search", "--onlyvisible", "--name", ".", "getwindowname",
                          "%@", check=False)
         raise CheckFailed("no window titled '%s' after Enter on the entry; visible windows: %s"
-                          % (FILTER_NAME, sorted(set(others.split("\n")) - {""})))
+                          % (target, sorted(set(others.split("\n")) - {""})))
     dx, dy, dw, dh = gui.wait_for("the dialog to have its size", lambda: (
         gui.geometry(dialog) if gui.geometry(dialog)[3] > 100 else None))
     gui.park_mouse()
@@ -554,22 +564,26 @@ def run_test(args, gui):
     if not gui.windows(dialog_title):
         raise CheckFailed("the dialog vanished before its screenshot")
     LAYOUT["dialog"] = [dx, dy, dw, dh]
-    passed("dialog", "window %d titled '%s', %dx%d+%d+%d" % (dialog, FILTER_NAME, dw, dh, dx, dy))
+    passed("dialog", "window %d titled '%s', %dx%d+%d+%d" % (dialog, target, dw, dh, dx, dy))
 
     # --- Apply, then Close ------------------------------------------------------------------
     # MeshlabStdDialog's last row is [Close][Apply], each half the width, ~26 px high at the
     # bottom edge: the centres of the two halves, 23 px above the bottom.
     log_before = gui.log_text()
     gui.click(dialog, dw * 3 // 4, dh - 23)
-    applied = APPLIED_LINE % re.escape(FILTER_NAME)
+    applied = APPLIED_LINE % re.escape(target)
     gui.wait_for("'%s' in MeshLab's log" % applied,
                  lambda: re.search(applied, gui.log_text()[len(log_before):]), timeout=120)
-    report = [l for l in gui.log_text()[len(log_before):].splitlines() if "L2 stretch" in l]
-    if not report or "flipped faces 0" not in report[0]:
-        raise CheckFailed("no 'L2 stretch ... flipped faces 0' report line in meshlab.log")
+    # The patch filter's line "L2 stretch ..., flipped faces 0, ...", the atlas's
+    # "charts N, ..., flipped_faces 0, ..." (the report table's keys).
+    marker, clean = (("charts ", "flipped_faces 0") if args.filter == "atlas" else
+                     ("L2 stretch", "flipped faces 0"))
+    report = [l for l in gui.log_text()[len(log_before):].splitlines() if marker in l]
+    if not report or clean not in report[0]:
+        raise CheckFailed("no '%s ... %s' report line in meshlab.log" % (marker, clean))
     passed("apply", "log: " + report[0].strip())
 
-    texture = os.path.join(workdir, TEXTURE_NAME)
+    texture = os.path.join(workdir, texture_name(args))
     if not os.path.isfile(texture):
         raise CheckFailed("%s was not written next to the mesh" % texture)
     with open(texture, "rb") as f:
@@ -637,7 +651,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--plugin", required=True,
                         help="the 2020.09 libfilter_straightest_param.so")
-    parser.add_argument("--mesh", required=True, help="a disk-shaped mesh (.off)")
+    parser.add_argument("--mesh", required=True,
+                        help="a disk-shaped mesh (.off); a closed one with --filter atlas")
+    parser.add_argument("--filter", choices=("patch", "atlas"), default="patch",
+                        help="which of our two filters to run (default: the patch filter)")
     parser.add_argument("--out", required=True,
                         help="folder for screenshots, logs, work folder (replaces earlier ones)")
     parser.add_argument("--prefix", help="private MeshLab 2020.09 prefix (default OUT/../gui-prefix)")
@@ -674,7 +691,7 @@ def main():
         if name in ("work", "xdg") and os.path.isdir(path):
             shutil.rmtree(path)
         elif re.fullmatch(r"(\d\d_\w+|failure)\.png|(meshlab|xvfb)\.log|result\.txt|layout\.json|"
-                          + re.escape(TEXTURE_NAME), name):
+                          + re.escape(texture_name(args)), name):
             os.remove(path)
     gui = Gui(args.out)
 
@@ -704,9 +721,9 @@ def main():
         gui.stop()
         if gui.root_folder:
             # Keep what a reader of a failure needs, then leave the cached root as it was.
-            texture = os.path.join(gui.root_folder, "work", TEXTURE_NAME)
+            texture = os.path.join(gui.root_folder, "work", texture_name(args))
             if os.path.isfile(texture):
-                shutil.copyfile(texture, os.path.join(args.out, TEXTURE_NAME))
+                shutil.copyfile(texture, os.path.join(args.out, texture_name(args)))
             shutil.rmtree(gui.root_folder, ignore_errors=True)
         if gui.system_plugin and os.path.exists(gui.system_plugin):
             os.remove(gui.system_plugin)
