@@ -70,7 +70,8 @@ def subdivide(V, F):
 def prepare_models(shared, cache, big):
     """(name, triangle OFF path) for every model, written once into `cache`."""
     import pymeshlab
-    sources = sorted((shared / "meshes" / "closed").glob("*.*"))
+    sources = sorted(p for p in (shared / "meshes" / "closed").glob("*.*")
+                     if p.suffix.lower() in (".off", ".obj", ".ply"))
     samples = pathlib.Path(pymeshlab.__file__).parent / "tests" / "sample_meshes"
     sources += [samples / n for n in ("bunny.obj", "cow.obj", "airplane.obj", "bone.ply")]
     models = []
@@ -157,7 +158,12 @@ def run_method(method, args, mesh, folder, timeout=None):
     if score.returncode != 0:
         row["failed"] = "scorer: " + score.stderr.strip()[:150]
         return row
-    row.update(json.loads(score.stdout))
+    scored = json.loads(score.stdout)
+    # null: not finite (a UV triangle of no area stretches without bound).
+    for key in ("seam", "efficiency", "l2", "linf"):
+        if scored[key] is None:
+            scored[key] = float("inf")
+    row.update(scored)
     row["obj"] = out_obj
     return row
 

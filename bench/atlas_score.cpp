@@ -7,6 +7,7 @@
 // Prints one JSON object: faces, charts, seam, mirrored_charts, flipped_faces,
 // overlapping_pixels, gutter_violations, outside_faces, uncharted_faces, efficiency, l2, linf.
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -56,8 +57,7 @@ TexturedMesh readTexturedObj(const char* path) {
         v.push_back(objIndex(word.substr(0, slash), static_cast<int>(m.xyz.size() / 3)));
         const std::string t = slash == std::string::npos ? "" : word.substr(slash + 1);
         const std::string t_index = t.substr(0, t.find('/'));
-        vt.push_back(t_index.empty() ? -1
-                                     : objIndex(t_index, static_cast<int>(m.uv.size() / 2)));
+        vt.push_back(t_index.empty() ? -1 : objIndex(t_index, static_cast<int>(m.uv.size() / 2)));
       }
       for (size_t k = 1; k + 1 < v.size(); ++k) {
         const size_t corner[3] = {0, k, k + 1};
@@ -121,13 +121,21 @@ int main(int argc, char** argv) {
       }
     const sdp::atlas::AtlasMeasures a =
         sdp::atlas::measureAtlas(V, F, layout, texture_size, gutter);
+    // Stretch is unbounded where a UV triangle has no area: JSON has no infinity, so null.
+    auto number = [](double x) {
+      char text[32];
+      if (!std::isfinite(x)) return std::string("null");
+      std::snprintf(text, sizeof text, "%.9g", x);
+      return std::string(text);
+    };
     std::printf(
-        "{\"faces\": %d, \"charts\": %d, \"seam\": %.9g, \"mirrored_charts\": %d, "
+        "{\"faces\": %d, \"charts\": %d, \"seam\": %s, \"mirrored_charts\": %d, "
         "\"flipped_faces\": %d, \"overlapping_pixels\": %lld, \"gutter_violations\": %lld, "
-        "\"outside_faces\": %d, \"uncharted_faces\": %d, \"efficiency\": %.9g, \"l2\": %.9g, "
-        "\"linf\": %.9g}\n",
-        faces, a.charts, a.seam, a.mirrored_charts, a.flipped_faces, a.overlapping_pixels,
-        a.gutter_violations, a.outside_faces, m.faces_without_uv, a.efficiency, a.l2, a.linf);
+        "\"outside_faces\": %d, \"uncharted_faces\": %d, \"efficiency\": %s, \"l2\": %s, "
+        "\"linf\": %s}\n",
+        faces, a.charts, number(a.seam).c_str(), a.mirrored_charts, a.flipped_faces,
+        a.overlapping_pixels, a.gutter_violations, a.outside_faces, m.faces_without_uv,
+        number(a.efficiency).c_str(), number(a.l2).c_str(), number(a.linf).c_str());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sdp_atlas_score: %s\n", e.what());
