@@ -14,35 +14,13 @@ import time
 
 import bpy
 
-
-def read_off(path):
-    words = open(path).read().split()
-    assert words[0] == "OFF"
-    nv, nf = int(words[1]), int(words[2])
-    at = 4
-    V = [tuple(float(x) for x in words[at + 3 * i:at + 3 * i + 3]) for i in range(nv)]
-    at += 3 * nv
-    F = []
-    for _ in range(nf):
-        k = int(words[at])
-        F.append(tuple(int(x) for x in words[at + 1:at + 1 + k]))
-        at += 1 + k
-    return V, F
+from blender_peer import edit_all_faces, read_off  # the disk peer's set-up, shared
 
 
 def main():
     mesh_path, out_path, size, gutter = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
     V, F = read_off(mesh_path)
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    mesh = bpy.data.meshes.new("model")
-    mesh.from_pydata(V, [], F)
-    mesh.update()
-    obj = bpy.data.objects.new("model", mesh)
-    bpy.context.scene.collection.objects.link(obj)
-    bpy.context.view_layer.objects.active = obj
-    obj.select_set(True)
-    bpy.ops.object.mode_set(mode="EDIT")
-    bpy.ops.mesh.select_all(action="SELECT")
+    mesh = edit_all_faces(V, F, "model")
     margin = gutter / size
     start = time.perf_counter()
     bpy.ops.uv.smart_project(island_margin=margin)

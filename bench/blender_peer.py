@@ -34,19 +34,26 @@ def read_off(path):
     return V, F
 
 
-def main():
-    mesh_path, method, scorer = sys.argv[1], sys.argv[2], sys.argv[3]
-    V, F = read_off(mesh_path)
+def edit_all_faces(V, F, name):
+    """A fresh scene holding the mesh (V, F), in Edit Mode with every face selected, as a user
+    has it before an unwrap; returns the Blender mesh (vertex and face order kept)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    mesh = bpy.data.meshes.new("patch")
+    mesh = bpy.data.meshes.new(name)
     mesh.from_pydata(V, [], F)
     mesh.update()
-    obj = bpy.data.objects.new("patch", mesh)
+    obj = bpy.data.objects.new(name, mesh)
     bpy.context.scene.collection.objects.link(obj)
     bpy.context.view_layer.objects.active = obj
     obj.select_set(True)
     bpy.ops.object.mode_set(mode="EDIT")
     bpy.ops.mesh.select_all(action="SELECT")
+    return mesh
+
+
+def main():
+    mesh_path, method, scorer = sys.argv[1], sys.argv[2], sys.argv[3]
+    V, F = read_off(mesh_path)
+    mesh = edit_all_faces(V, F, "patch")
     start = time.perf_counter()
     if method == "slim":
         bpy.ops.uv.unwrap(method="MINIMUM_STRETCH", iterations=10, margin=0.0, fill_holes=True)
