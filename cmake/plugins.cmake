@@ -1,18 +1,16 @@
-# One plugin per MeshLab build users run, from two shims over one core (one shim per plugin API;
-# see filter_straightest_param/filter_definition.h):
-#   build/plugins/meshlab-2020.09/        MeshFilterInterface shim: Debian 12's meshlab + meshlabserver
-#   build/plugins/meshlab-2022.02/        FilterPlugin shim, float: Debian 13 (trixie) MeshLab
-#   build/plugins/meshlab-2025.07-float/  FilterPlugin shim, float: Debian sid / Ubuntu 26.04 MeshLab,
-#                                         the official 2025.07 AppImage
-#   build/plugins/meshlab-2025.07/        FilterPlugin shim, double: pymeshlab 2025.7 (load_plugin),
-#                                         the 2025.07d AppImage
-# each holding libfilter_straightest_param.so. MeshLab 2022+ loads only a plugin of its own version
-# (first 6 characters) and precision, hence a build each. Each compiles against its own MeshLab
-# version's headers (src/common + vcglib), taken from the Debian source tarballs that
-# scripts/fetch-meshlab-sources.sh extracts into the cache folder, and links that version's
-# libmeshlab-common.so where one is on this machine (Debian 12's, pymeshlab's, or the one in the
-# trixie/sid roots of scripts/make-meshlab-root.sh), so that every MeshLab symbol it uses is
-# checked at link time. A missing source folder skips that plugin with a warning.
+# One plugin per MeshLab build users run, one per row of meshlab-builds.tsv (folder, version,
+# plugin API, precision, where it runs), from one shim per plugin API over one core (see
+# filter_straightest_param/filter_definition.h):
+#   build/plugins/<folder>/libfilter_straightest_param.so        target plugin_<folder>
+# MeshLab 2022+ loads only a plugin of its own version (first 6 characters) and precision, hence a
+# build each. Each compiles against its own MeshLab version's headers (src/common + vcglib), taken
+# from the Debian source tarballs that scripts/fetch-meshlab-sources.sh extracts into the cache
+# folder, and links that version's libmeshlab-common.so where one is on this machine (Debian 12's
+# for the host row, pymeshlab's, or the one in the row's Debian root of
+# scripts/make-meshlab-root.sh), so that every MeshLab symbol it uses is checked at link time. A
+# missing source folder skips that plugin with a warning.
+# The tests find the builds as SDP_HOST_PLUGIN_TARGET (this machine's MeshLab and meshlabserver),
+# SDP_PYMESHLAB_PLUGIN_TARGET and the global property SDP_ROOT_PLUGIN_TARGETS.
 
 if(DEFINED ENV{SDP_CACHE_DIR})
   set(SDP_MESHLAB_CACHE_DIR "$ENV{SDP_CACHE_DIR}")
@@ -30,9 +28,6 @@ function(sdp_recorded_meshlab_source version out_var)
   set(${out_var} "${dir}" PARENT_SCOPE)
 endfunction()
 
-sdp_recorded_meshlab_source(2020.09 SDP_RECORDED_2020_SOURCE)
-sdp_recorded_meshlab_source(2022.02 SDP_RECORDED_2022_SOURCE)
-sdp_recorded_meshlab_source(2025.07 SDP_RECORDED_2025_SOURCE)
 # A cache entry left empty by an earlier configure (before the fetch) is filled in now; a path
 # the user set is kept.
 function(sdp_cache_path var value type help)
@@ -42,24 +37,32 @@ function(sdp_cache_path var value type help)
   set(${var} "${value}" CACHE ${type} "${help}" FORCE)
 endfunction()
 
-sdp_cache_path(MESHLAB_2020_SOURCE_DIR "${SDP_RECORDED_2020_SOURCE}" PATH
-  "MeshLab 2020.09 source tree (src/common + vcglib); default: scripts/fetch-meshlab-sources.sh")
-sdp_cache_path(MESHLAB_2022_SOURCE_DIR "${SDP_RECORDED_2022_SOURCE}" PATH
-  "MeshLab 2022.02 source tree (src/common + src/vcglib); default: scripts/fetch-meshlab-sources.sh")
-sdp_cache_path(MESHLAB_2025_SOURCE_DIR "${SDP_RECORDED_2025_SOURCE}" PATH
-  "MeshLab 2025.07 source tree (src/common + src/vcglib); default: scripts/fetch-meshlab-sources.sh")
+file(STRINGS "${PROJECT_SOURCE_DIR}/meshlab-builds.tsv" SDP_MESHLAB_BUILD_ROWS REGEX "^[^#]")
 
-# Debian's MeshLab 2020.09 library the 2020.09 plugin links to, and where `cmake --install` puts it.
-set(MESHLAB_2020_COMMON_LIBRARY "/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so" CACHE FILEPATH
-    "libmeshlab-common.so of Debian's MeshLab 2020.09")
-set(MESHLAB_2020_PLUGIN_INSTALL_DIR "/usr/lib/x86_64-linux-gnu/meshlab/plugins" CACHE PATH
-    "Plugin folder of Debian's MeshLab 2020.09 (cmake --install; needs root)")
-set(MESHLAB_2025_PLUGIN_INSTALL_DIR "lib/straightest_param/meshlab-2025.07" CACHE PATH
-    "Where cmake --install puts the pymeshlab 2025.07 plugin (relative: under CMAKE_INSTALL_PREFIX)")
+# Each version's source tree, once per version; the last one found (the table runs oldest first)
+# is SDP_NEWEST_MESHLAB_SOURCE_DIR, whose vcglib the bench's reader comparison uses.
+set(SDP_ANY_MESHLAB_SOURCE FALSE)
+set(SDP_NEWEST_MESHLAB_SOURCE_DIR "")
+foreach(row IN LISTS SDP_MESHLAB_BUILD_ROWS)
+  string(REPLACE "\t" ";" fields "${row}")
+  list(GET fields 1 version)
+  string(REPLACE "." "_" version_id "${version}")
+  sdp_recorded_meshlab_source(${version} recorded)
+  sdp_cache_path(MESHLAB_SOURCE_DIR_${version_id} "${recorded}" PATH
+    "MeshLab ${version} source tree (src/common + vcglib); default: scripts/fetch-meshlab-sources.sh")
+  if(EXISTS "${MESHLAB_SOURCE_DIR_${version_id}}/src/common")
+    set(SDP_ANY_MESHLAB_SOURCE TRUE)
+    set(SDP_NEWEST_MESHLAB_SOURCE_DIR "${MESHLAB_SOURCE_DIR_${version_id}}")
+  endif()
+endforeach()
 
-# pymeshlab's own libmeshlab-common.so (in the project's .venv): pymeshlab loads its library with
-# RTLD_LOCAL, so a plugin that leaves MeshLab symbols undefined could not see them; linking the
-# very file pymeshlab already loaded makes the loader reuse it by its soname.
+# Debian's MeshLab library the host row's plugin links to, and where `cmake --install` puts it.
+set(MESHLAB_HOST_COMMON_LIBRARY "/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so" CACHE FILEPATH
+    "libmeshlab-common.so of this machine's Debian MeshLab")
+set(MESHLAB_HOST_PLUGIN_INSTALL_DIR "/usr/lib/x86_64-linux-gnu/meshlab/plugins" CACHE PATH
+    "Plugin folder of this machine's Debian MeshLab (cmake --install; needs root)")
+
+# pymeshlab's own libmeshlab-common.so, in the project's .venv (sdp_add_meshlab_build says why).
 set(SDP_PYTHON "${PROJECT_SOURCE_DIR}/.venv/bin/python" CACHE FILEPATH
     "Python with pymeshlab==2025.7.post1, pytest and numpy (scripts/install-deps.sh makes .venv)")
 file(GLOB SDP_PYMESHLAB_COMMON_CANDIDATES
@@ -69,16 +72,13 @@ if(SDP_PYMESHLAB_COMMON_CANDIDATES)
   list(SORT SDP_PYMESHLAB_COMMON_CANDIDATES)
   list(GET SDP_PYMESHLAB_COMMON_CANDIDATES -1 SDP_PYMESHLAB_COMMON_DEFAULT)
 endif()
-sdp_cache_path(MESHLAB_2025_COMMON_LIBRARY "${SDP_PYMESHLAB_COMMON_DEFAULT}" FILEPATH
-  "pymeshlab's bundled libmeshlab-common.so (2025.07)")
+sdp_cache_path(MESHLAB_PYMESHLAB_COMMON_LIBRARY "${SDP_PYMESHLAB_COMMON_DEFAULT}" FILEPATH
+  "pymeshlab's bundled libmeshlab-common.so")
 
 set(SDP_BUILT_MESHLAB_PLUGINS "")
-
-if(NOT EXISTS "${MESHLAB_2020_SOURCE_DIR}/src/common/interfaces.h"
-   AND NOT EXISTS "${MESHLAB_2022_SOURCE_DIR}/src/common/plugins/interfaces/filter_plugin.h"
-   AND NOT EXISTS "${MESHLAB_2025_SOURCE_DIR}/src/common/plugins/interfaces/filter_plugin.h")
-  message(WARNING "No MeshLab sources found: skipping both MeshLab plugins. "
-                  "Run scripts/fetch-meshlab-sources.sh or set MESHLAB_2020_SOURCE_DIR / MESHLAB_2025_SOURCE_DIR.")
+if(NOT SDP_ANY_MESHLAB_SOURCE)
+  message(WARNING "No MeshLab sources found: skipping the MeshLab plugins. "
+                  "Run scripts/fetch-meshlab-sources.sh or set MESHLAB_SOURCE_DIR_<version>.")
   return()
 endif()
 
@@ -90,8 +90,8 @@ endif()
 find_package(OpenGL)
 find_package(GLEW)
 
-# Common settings of both shims: a Qt plugin module named libfilter_straightest_param.so in its
-# own version folder, the core linked statically, MeshLab/vcglib headers as system headers (their
+# Common settings of every build: a Qt plugin module named libfilter_straightest_param.so in its
+# own build folder, the core linked statically, MeshLab/vcglib headers as system headers (their
 # warnings are not ours). Default visibility on purpose: MLException thrown here must match the
 # one pymeshlab catches.
 function(sdp_add_meshlab_plugin target version scalar)
@@ -119,143 +119,152 @@ function(sdp_add_meshlab_plugin target version scalar)
   endif()
 endfunction()
 
-# --- MeshLab 2020.09 (Debian meshlab, meshlabserver) ------------------------------------------
-if(NOT EXISTS "${MESHLAB_2020_SOURCE_DIR}/src/common/interfaces.h")
-  message(WARNING "MeshLab 2020.09 sources not found (MESHLAB_2020_SOURCE_DIR='${MESHLAB_2020_SOURCE_DIR}'): "
-                  "skipping the 2020.09 plugin. Run scripts/fetch-meshlab-sources.sh.")
-elseif(NOT EXISTS "${MESHLAB_2020_COMMON_LIBRARY}")
-  message(WARNING "${MESHLAB_2020_COMMON_LIBRARY} not found (Debian package meshlab): "
-                  "skipping the 2020.09 plugin.")
-elseif(NOT GLEW_FOUND OR NOT OPENGL_FOUND)
-  message(WARNING "GLEW/OpenGL (libglew-dev) not found: skipping the 2020.09 plugin.")
-else()
-  sdp_add_meshlab_plugin(filter_straightest_param_meshlab2020 2020.09 float
-    SOURCES
-      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2020/filter_straightest_param.h
-      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2020/filter_straightest_param.cpp
-    INCLUDE_DIRS
-      "${MESHLAB_2020_SOURCE_DIR}/src" "${MESHLAB_2020_SOURCE_DIR}/src/common"
-      "${MESHLAB_2020_SOURCE_DIR}/vcglib"
-    LIBRARIES GLEW::GLEW OpenGL::GL "${MESHLAB_2020_COMMON_LIBRARY}")
-  install(TARGETS filter_straightest_param_meshlab2020
-          LIBRARY DESTINATION "${MESHLAB_2020_PLUGIN_INSTALL_DIR}" COMPONENT meshlab2020)
-  list(APPEND SDP_BUILT_MESHLAB_PLUGINS meshlab-2020.09)
-endif()
-
-# --- MeshLab 2025.07 (pymeshlab 2025.7) ------------------------------------------------------
-if(NOT EXISTS "${MESHLAB_2025_SOURCE_DIR}/src/common/plugins/interfaces/filter_plugin.h")
-  message(WARNING "MeshLab 2025.07 sources not found (MESHLAB_2025_SOURCE_DIR='${MESHLAB_2025_SOURCE_DIR}'): "
-                  "skipping the 2025.07 plugin. Run scripts/fetch-meshlab-sources.sh.")
-else()
-  set(SDP_2025_LIBRARIES "")
-  set(SDP_2025_ALLOW_UNDEFINED "")
-  if(EXISTS "${MESHLAB_2025_COMMON_LIBRARY}")
-    get_filename_component(SDP_PYMESHLAB_LIB_DIR "${MESHLAB_2025_COMMON_LIBRARY}" DIRECTORY)
-    # rpath-link: let ld find that library's own dependencies (its Qt, GLEW) at link time only.
-    set(SDP_2025_LIBRARIES "${MESHLAB_2025_COMMON_LIBRARY}" "-Wl,-rpath-link,${SDP_PYMESHLAB_LIB_DIR}")
-  else()
-    message(WARNING "pymeshlab's libmeshlab-common.so not found (MESHLAB_2025_COMMON_LIBRARY): the 2025.07 "
-                    "plugin leaves MeshLab symbols undefined. Run scripts/install-deps.sh, then re-configure.")
-    set(SDP_2025_ALLOW_UNDEFINED ALLOW_UNDEFINED)
-  endif()
-  # The scalar must match the running MeshLab: pymeshlab refuses a plugin of the other precision
-  # ("different floating point precision"). The pymeshlab 2025.7.post1 wheel is built with
-  # MESHLAB_SCALAR=double (its RichPosition takes Point3<double>); read it from the library.
-  if(NOT DEFINED MESHLAB_2025_SCALAR AND EXISTS "${MESHLAB_2025_COMMON_LIBRARY}")
-    set(SDP_DETECTED_2025_SCALAR double)
-    execute_process(COMMAND nm -DC "${MESHLAB_2025_COMMON_LIBRARY}" OUTPUT_VARIABLE SDP_NM_OUTPUT
-                    ERROR_QUIET RESULT_VARIABLE SDP_NM_RESULT)
-    if(SDP_NM_RESULT EQUAL 0 AND SDP_NM_OUTPUT MATCHES "RichPosition::RichPosition\\([^)]*Point3<float>")
-      set(SDP_DETECTED_2025_SCALAR float)
+# What a plugin API's shim needs: the header that shows a source tree has that API, where its
+# vcglib is, and what its headers pull in (MeshFilterInterface's include GLEW).
+function(sdp_meshlab_api api)
+  if(api STREQUAL "mesh_filter_interface")
+    set(api_header "src/common/interfaces.h" PARENT_SCOPE)
+    set(api_vcglib "vcglib" PARENT_SCOPE)
+    if(GLEW_FOUND AND OPENGL_FOUND)
+      set(api_libraries GLEW::GLEW OpenGL::GL PARENT_SCOPE)
+      set(api_missing "" PARENT_SCOPE)
+    else()
+      set(api_missing "GLEW/OpenGL (libglew-dev)" PARENT_SCOPE)
     endif()
+  elseif(api STREQUAL "filter_plugin")
+    set(api_header "src/common/plugins/interfaces/filter_plugin.h" PARENT_SCOPE)
+    set(api_vcglib "src/vcglib" PARENT_SCOPE)
+    set(api_libraries "" PARENT_SCOPE)
+    set(api_missing "" PARENT_SCOPE)
   else()
-    set(SDP_DETECTED_2025_SCALAR double)
+    message(FATAL_ERROR "meshlab-builds.tsv: unknown plugin API '${api}' (a shim folder of filter_straightest_param/)")
   endif()
-  set(MESHLAB_2025_SCALAR "${SDP_DETECTED_2025_SCALAR}" CACHE STRING
-      "MESHLAB_SCALAR of the MeshLab 2025.07 the plugin runs in (pymeshlab 2025.7.post1: double)")
-  set_property(CACHE MESHLAB_2025_SCALAR PROPERTY STRINGS float double)
-  sdp_add_meshlab_plugin(filter_straightest_param_meshlab2025 2025.07 ${MESHLAB_2025_SCALAR}
-    ${SDP_2025_ALLOW_UNDEFINED}
-    SOURCES
-      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2025/filter_straightest_param.h
-      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2025/filter_straightest_param.cpp
-    INCLUDE_DIRS
-      "${MESHLAB_2025_SOURCE_DIR}/src" "${MESHLAB_2025_SOURCE_DIR}/src/common"
-      "${MESHLAB_2025_SOURCE_DIR}/src/vcglib"
-    LIBRARIES ${SDP_2025_LIBRARIES})
-  # No RUNPATH into .venv: pymeshlab has loaded every library the plugin needs before loading it.
-  set_target_properties(filter_straightest_param_meshlab2025 PROPERTIES SKIP_BUILD_RPATH ON)
-  install(TARGETS filter_straightest_param_meshlab2025
-          LIBRARY DESTINATION "${MESHLAB_2025_PLUGIN_INSTALL_DIR}" COMPONENT meshlab2025)
-  # Opt-in: copy the plugin into pymeshlab's own plugin folder, so that `import pymeshlab` loads
-  # it and binds MeshSet.compute_texcoord_parametrization_straightest_distances like a built-in
-  # (pymeshlab binds methods only for plugins present at import; after load_plugin() use
-  # ms.apply_filter(name, ...) or tests/python/conftest.py's binding).
-  #   cmake --build build --target pymeshlab_install_plugin
-  if(EXISTS "${MESHLAB_2025_COMMON_LIBRARY}")
-    add_custom_target(pymeshlab_install_plugin
-      COMMAND ${CMAKE_COMMAND} -E copy "$<TARGET_FILE:filter_straightest_param_meshlab2025>"
-              "${SDP_PYMESHLAB_LIB_DIR}/plugins/"
-      DEPENDS filter_straightest_param_meshlab2025
-      COMMENT "Copying the 2025.07 plugin into ${SDP_PYMESHLAB_LIB_DIR}/plugins")
-  endif()
-  list(APPEND SDP_BUILT_MESHLAB_PLUGINS meshlab-2025.07)
-endif()
+endfunction()
 
-# --- MeshLab 2022.02 and 2025.07 float GUIs (Debian trixie, Debian sid / Ubuntu 26.04) ---------
-# The FilterPlugin shim again, float, against each version's own headers. Their libmeshlab-common.so
-# comes from the Debian roots the tests run these GUIs in (scripts/make-meshlab-root.sh): linking it
-# checks every MeshLab symbol the plugin uses against that very build. Its own dependencies need a
-# newer glibc than this machine's, so they are not resolved here (--allow-shlib-undefined); the
-# plugin itself only needs this machine's glibc, which every newer release carries.
 set(SDP_MESHLAB_ROOTS_DIR "${SDP_MESHLAB_CACHE_DIR}/roots" CACHE PATH
-    "Debian roots with MeshLab 2022.02 (trixie/) and 2025.07 (sid/) (scripts/make-meshlab-root.sh)")
-function(sdp_add_filter_plugin_gui_build target version folder suite source_dir component)
-  set(common "${SDP_MESHLAB_ROOTS_DIR}/${suite}/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so")
+    "Debian roots holding the newer MeshLab GUIs, one folder per suite (scripts/make-meshlab-root.sh)")
+
+# The common library a build links (where one is on this machine) and how: the host's Debian
+# MeshLab, pymeshlab's own library, or the one in the row's Debian root.
+#   pymeshlab: pymeshlab loads its library with RTLD_LOCAL, so a plugin that left MeshLab symbols
+#     undefined could not see them; linking the very file pymeshlab already loaded makes the
+#     loader reuse it by its soname.
+#   a root: its library needs a newer glibc than this machine's, so its own dependencies are not
+#     resolved here (--allow-shlib-undefined); the plugin itself only needs this machine's glibc,
+#     which every newer release carries.
+function(sdp_add_meshlab_build row)
+  string(REPLACE "\t" ";" fields "${row}")
+  list(GET fields 0 folder)
+  list(GET fields 1 version)
+  list(GET fields 2 api)
+  list(GET fields 3 scalar)
+  list(GET fields 4 runs_in)
   string(REPLACE "." "_" version_id "${version}")
-  set(MESHLAB_${version_id}_${suite}_COMMON_LIBRARY "${common}" CACHE FILEPATH
-      "libmeshlab-common.so of the MeshLab ${version} the ${folder} plugin runs in")
-  set(common "${MESHLAB_${version_id}_${suite}_COMMON_LIBRARY}")
-  if(NOT EXISTS "${source_dir}/src/common/plugins/interfaces/filter_plugin.h")
-    message(WARNING "MeshLab ${version} sources not found ('${source_dir}'): skipping the ${folder} "
-                    "plugin. Run scripts/fetch-meshlab-sources.sh.")
+  set(source_dir "${MESHLAB_SOURCE_DIR_${version_id}}")
+  set(target plugin_${folder})
+  sdp_meshlab_api(${api})
+  if(NOT EXISTS "${source_dir}/${api_header}")
+    message(WARNING "MeshLab ${version} sources not found (MESHLAB_SOURCE_DIR_${version_id}="
+                    "'${source_dir}'): skipping the ${folder} plugin. Run scripts/fetch-meshlab-sources.sh.")
     return()
   endif()
-  set(libraries "")
-  set(allow_undefined ALLOW_UNDEFINED)
-  if(EXISTS "${common}")
-    set(libraries "${common}" "-Wl,--allow-shlib-undefined")
-    set(allow_undefined "")
-  else()
-    message(WARNING "${common} not found (scripts/make-meshlab-root.sh ${suite}): the ${folder} "
-                    "plugin leaves MeshLab symbols unchecked until MeshLab loads it.")
+  if(api_missing)
+    message(WARNING "${api_missing} not found: skipping the ${folder} plugin.")
+    return()
   endif()
-  sdp_add_meshlab_plugin(${target} ${version} float ${allow_undefined} FOLDER ${folder}
+
+  set(libraries ${api_libraries})
+  set(allow_undefined "")
+  if(runs_in STREQUAL "host")
+    if(NOT EXISTS "${MESHLAB_HOST_COMMON_LIBRARY}")
+      message(WARNING "${MESHLAB_HOST_COMMON_LIBRARY} not found (Debian package meshlab): "
+                      "skipping the ${folder} plugin.")
+      return()
+    endif()
+    list(APPEND libraries "${MESHLAB_HOST_COMMON_LIBRARY}")
+    set(install_dir "${MESHLAB_HOST_PLUGIN_INSTALL_DIR}")
+  elseif(runs_in STREQUAL "pymeshlab")
+    set(common "${MESHLAB_PYMESHLAB_COMMON_LIBRARY}")
+    if(EXISTS "${common}")
+      get_filename_component(lib_dir "${common}" DIRECTORY)
+      # rpath-link: let ld find that library's own dependencies (its Qt, GLEW) at link time only.
+      list(APPEND libraries "${common}" "-Wl,-rpath-link,${lib_dir}")
+      # The scalar must match the running MeshLab: pymeshlab refuses a plugin of the other
+      # precision ("different floating point precision"). Read it from the library (its
+      # RichPosition takes a Point3 of that scalar); the table's value when it cannot be read.
+      execute_process(COMMAND nm -DC "${common}" OUTPUT_VARIABLE nm_output ERROR_QUIET
+                      RESULT_VARIABLE nm_result)
+      if(nm_result EQUAL 0 AND nm_output MATCHES "RichPosition::RichPosition\\([^)]*Point3<float>")
+        set(scalar float)
+      elseif(nm_result EQUAL 0 AND nm_output MATCHES "RichPosition::RichPosition\\([^)]*Point3<double>")
+        set(scalar double)
+      endif()
+    else()
+      message(WARNING "pymeshlab's libmeshlab-common.so not found (MESHLAB_PYMESHLAB_COMMON_LIBRARY): "
+                      "the ${folder} plugin leaves MeshLab symbols undefined. Run "
+                      "scripts/install-deps.sh, then re-configure.")
+      set(allow_undefined ALLOW_UNDEFINED)
+    endif()
+    set(install_dir "lib/straightest_param/${folder}")
+  else()
+    set(common "${SDP_MESHLAB_ROOTS_DIR}/${runs_in}/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so")
+    if(EXISTS "${common}")
+      list(APPEND libraries "${common}" "-Wl,--allow-shlib-undefined")
+    else()
+      message(WARNING "${common} not found (scripts/make-meshlab-root.sh ${runs_in}): the ${folder} "
+                      "plugin leaves MeshLab symbols unchecked until MeshLab loads it.")
+      set(allow_undefined ALLOW_UNDEFINED)
+    endif()
+    # Not into this machine's MeshLab: the README says where each goes on its system.
+    set(install_dir "lib/straightest_param/${folder}")
+  endif()
+
+  sdp_add_meshlab_plugin(${target} ${version} ${scalar} ${allow_undefined} FOLDER ${folder}
     SOURCES
-      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2025/filter_straightest_param.h
-      ${PROJECT_SOURCE_DIR}/filter_straightest_param/meshlab2025/filter_straightest_param.cpp
+      ${PROJECT_SOURCE_DIR}/filter_straightest_param/${api}/filter_straightest_param.h
+      ${PROJECT_SOURCE_DIR}/filter_straightest_param/${api}/filter_straightest_param.cpp
     INCLUDE_DIRS
-      "${source_dir}/src" "${source_dir}/src/common" "${source_dir}/src/vcglib"
+      "${source_dir}/src" "${source_dir}/src/common" "${source_dir}/${api_vcglib}"
     LIBRARIES ${libraries})
-  # MeshLab has loaded its libmeshlab-common.so (by this soname) before any plugin.
-  set_target_properties(${target} PROPERTIES SKIP_BUILD_RPATH ON)
-  # Not into this machine's MeshLab (2020.09): the README says where each goes on its system.
-  install(TARGETS ${target} LIBRARY DESTINATION "lib/straightest_param/${folder}"
-          COMPONENT ${component})
-  # What tests/meshlab_roots needs to run this build in its root, said once, here.
-  set_target_properties(${target} PROPERTIES SDP_MESHLAB_VERSION ${version}
-                        SDP_MESHLAB_SOURCE_DIR "${source_dir}" SDP_ROOT_SUITE ${suite}
-                        SDP_MESHLAB_COMMON_LIBRARY "${common}")
-  set_property(GLOBAL APPEND PROPERTY SDP_ROOT_PLUGIN_TARGETS ${target})
+  if(NOT runs_in STREQUAL "host")
+    # The host process (MeshLab, pymeshlab) has loaded its libmeshlab-common.so, by this soname,
+    # before any plugin: no RUNPATH.
+    set_target_properties(${target} PROPERTIES SKIP_BUILD_RPATH ON)
+  endif()
+  install(TARGETS ${target} LIBRARY DESTINATION "${install_dir}" COMPONENT ${folder})
+
+  if(runs_in STREQUAL "host")
+    set(SDP_HOST_PLUGIN_TARGET ${target} PARENT_SCOPE)
+    set(SDP_HOST_PLUGIN_FOLDER ${folder} PARENT_SCOPE)
+  elseif(runs_in STREQUAL "pymeshlab")
+    set(SDP_PYMESHLAB_PLUGIN_TARGET ${target} PARENT_SCOPE)
+    # Opt-in: copy the plugin into pymeshlab's own plugin folder, so that `import pymeshlab`
+    # loads it and binds MeshSet.compute_texcoord_parametrization_straightest_distances like a
+    # built-in (pymeshlab binds methods only for plugins present at import; after load_plugin()
+    # use ms.apply_filter(name, ...) or tests/python/conftest.py's binding).
+    #   cmake --build build --target pymeshlab_install_plugin
+    if(EXISTS "${common}")
+      add_custom_target(pymeshlab_install_plugin
+        COMMAND ${CMAKE_COMMAND} -E copy "$<TARGET_FILE:${target}>" "${lib_dir}/plugins/"
+        DEPENDS ${target}
+        COMMENT "Copying the ${folder} plugin into ${lib_dir}/plugins")
+    endif()
+  else()
+    # What tests/meshlab_roots needs to run this build in its root, said once, here.
+    set_target_properties(${target} PROPERTIES SDP_MESHLAB_VERSION ${version}
+                          SDP_MESHLAB_SOURCE_DIR "${source_dir}" SDP_ROOT_SUITE ${runs_in}
+                          SDP_MESHLAB_COMMON_LIBRARY "${common}")
+    set_property(GLOBAL APPEND PROPERTY SDP_ROOT_PLUGIN_TARGETS ${target})
+  endif()
   set(SDP_BUILT_MESHLAB_PLUGINS ${SDP_BUILT_MESHLAB_PLUGINS} ${folder} PARENT_SCOPE)
 endfunction()
-sdp_add_filter_plugin_gui_build(filter_straightest_param_meshlab2022 2022.02 meshlab-2022.02 trixie
-                                "${MESHLAB_2022_SOURCE_DIR}" meshlab2022)
-sdp_add_filter_plugin_gui_build(filter_straightest_param_meshlab2025_float 2025.07
-                                meshlab-2025.07-float sid "${MESHLAB_2025_SOURCE_DIR}" meshlab2025float)
+
+foreach(row IN LISTS SDP_MESHLAB_BUILD_ROWS)
+  sdp_add_meshlab_build("${row}")
+endforeach()
 
 if(SDP_BUILT_MESHLAB_PLUGINS)
   install(FILES "${PROJECT_SOURCE_DIR}/resources/straightest_param.mlx"
-          DESTINATION share/straightest_param COMPONENT meshlab2020)
+          DESTINATION share/straightest_param COMPONENT ${SDP_HOST_PLUGIN_FOLDER})
 endif()
 message(STATUS "MeshLab plugins: ${SDP_BUILT_MESHLAB_PLUGINS}")

@@ -1,4 +1,4 @@
-// What every MeshLab shim shares (2020.09's MeshFilterInterface, 2022.02/2025.07's FilterPlugin):
+// What every MeshLab shim shares (MeshLab 2020's MeshFilterInterface, 2022+'s FilterPlugin):
 // the parameter table -> MeshLab parameters and back, the checkerboard texture file, and the
 // run on a MeshModel. MeshLab's parameter classes and MeshModel have the same names and members
 // in every version but are distinct types, so they come in as template arguments from each shim.

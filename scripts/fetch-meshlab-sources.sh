@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Downloads Debian's MeshLab 2020.09, 2022.02 and 2025.07 upstream tarballs (they carry src/common and a
-# full vcglib: the plugin headers no -dev package ships), checks their SHA256, extracts each once
-# and records the source folder in $SDP_CACHE_DIR/meshlab-<version>.path for cmake/plugins.cmake.
+# Downloads Debian's upstream MeshLab tarball of each version in meshlab-builds.tsv (they carry
+# src/common and a full vcglib: the plugin headers no -dev package ships), checks their SHA256,
+# extracts each once and records the source folder in $SDP_CACHE_DIR/meshlab-<version>.path for
+# cmake/plugins.cmake.
 # Safe to re-run: a verified tarball is not downloaded again, an extracted tree not re-extracted.
 #
 #   SDP_CACHE_DIR   cache folder (default: ~/.cache/straightest-param)
@@ -11,16 +12,11 @@ set -euo pipefail
 cache_dir="${SDP_CACHE_DIR:-$HOME/.cache/straightest-param}"
 mkdir -p "$cache_dir/src"
 
-# version  file  sha256
-tarballs=(
-  "2020.09 meshlab_2020.09+dfsg1.orig.tar.xz d6715352ff65caffdec0292858d4263eb0c3cbbf3b1e5c2e2bab218e3f234630"
-  "2022.02 meshlab_2022.02+dfsg1.orig.tar.xz 11da26ec46c3fbbbc806d410a3221542ec21ec13fdcc55d624304600029435fd"
-  "2025.07 meshlab_2025.07~dfsg.orig.tar.xz d22c98d362f2a284e481af8dbfc272b2222f5b9c67b3cf8bec57d1c3161886f4"
-)
 fallback_mirror="http://deb.debian.org/debian"
 
 # machine_mirror: the mirror in this machine's apt sources.
 source "$(dirname "${BASH_SOURCE[0]}")/debian-mirror.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/meshlab-builds.sh"
 
 sha256_matches() {  # file hash
   [[ -f "$1" ]] && echo "$2  $1" | sha256sum --check --status
@@ -44,8 +40,8 @@ download() {  # file hash dest
   return 1
 }
 
-for entry in "${tarballs[@]}"; do
-  read -r version file hash <<<"$entry"
+# One tarball per version (builds of one version share it), in the table's order.
+while IFS=$'\t' read -r version file hash; do
   tarball="$cache_dir/$file"
   path_file="$cache_dir/meshlab-$version.path"
 
@@ -72,4 +68,4 @@ for entry in "${tarballs[@]}"; do
   fi
   echo "$cache_dir/src/$top" >"$path_file"
   echo "$version $cache_dir/src/$top"
-done
+done < <(meshlab_builds | awk -F'\t' '!seen[$2]++ { print $2 "\t" $6 "\t" $7 }')

@@ -1,18 +1,18 @@
 #!/usr/bin/env bash
 # Installs everything the project needs on a fresh Debian 12 (bookworm), as root; safe to re-run:
 #   - Debian packages: build tools (+ clang and its libFuzzer runtime), Qt5, Eigen, GoogleTest,
-#     CGAL (benchmark peers), MeshLab 2020.09 (GUI +
-#     meshlabserver), Xvfb and X tools for the headless MeshLab tests, ImageMagick for screenshots,
-#     debootstrap (the trixie/sid roots) and dpkg-dev (the Debian packages);
-#   - the MeshLab 2020.09 / 2022.02 / 2025.07 sources whose headers the plugins compile against
-#     (scripts/fetch-meshlab-sources.sh);
-#   - Debian roots with the MeshLab 2022.02 (trixie) and 2025.07 (sid) GUIs that the plugins for
-#     those versions are linked against and tested in (scripts/make-meshlab-root.sh; needs root);
-#   - .venv/ with pymeshlab 2025.07 (the MeshLab the 2025.07 plugin runs in), pytest, numpy and
+#     CGAL (benchmark peers), Debian 12's MeshLab (GUI + meshlabserver), Xvfb and X tools for the
+#     headless MeshLab tests, ImageMagick for screenshots, debootstrap (the Debian roots) and
+#     dpkg-dev (the Debian packages);
+#   - the source of every MeshLab version in meshlab-builds.tsv, whose headers the plugins compile
+#     against (scripts/fetch-meshlab-sources.sh);
+#   - a Debian root per suite of that table, holding the MeshLab GUI that the plugin for it is
+#     linked against and tested in (scripts/make-meshlab-root.sh; needs root);
+#   - .venv/ with pymeshlab (the MeshLab the double-precision plugin runs in), pytest, numpy and
 #     auditwheel (it reports the pip package's platform tag), libigl (SLIM, a bench peer).
 #
 #   SDP_SKIP_APT=1     skip the Debian packages (e.g. when not root and they are already there)
-#   SDP_SKIP_ROOTS=1   skip the trixie/sid roots (their plugins then link unchecked, their tests skip)
+#   SDP_SKIP_ROOTS=1   skip the Debian roots (their plugins then link unchecked, their tests skip)
 #   SDP_VENV_DIR=DIR   virtual environment folder (default: <repo>/.venv)
 set -euo pipefail
 
@@ -57,7 +57,8 @@ fi
 "$repo_dir/scripts/fetch-meshlab-sources.sh"
 
 if [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
-  for suite in trixie sid; do
+  source "$repo_dir/scripts/meshlab-builds.sh"
+  for suite in $(meshlab_root_suites); do
     "$repo_dir/scripts/make-meshlab-root.sh" "$suite" >/dev/null
   done
 fi

@@ -1,15 +1,13 @@
 #!/usr/bin/env bash
-# Builds one Debian package per Debian MeshLab the project builds a plugin for, from an existing
-# build (cmake --build build), with dpkg-deb:
-#   straightest-param-meshlab2020_<version>_amd64.deb  Debian 12, Ubuntu 22.04/24.04 (MeshLab 2020.09)
-#   straightest-param-meshlab2022_<version>_amd64.deb  Debian 13 trixie (MeshLab 2022.02)
-#   straightest-param-meshlab2025_<version>_amd64.deb  Debian sid, Ubuntu 26.04 (MeshLab 2025.07)
+# Builds one Debian package per MeshLab build of meshlab-builds.tsv that names one (its deb
+# column), from an existing build (cmake --build build), with dpkg-deb:
+#   straightest-param-<deb>_<version>_amd64.deb   for that row's MeshLab (users_get_it)
 # Each depends on its exact MeshLab version (any Debian revision of it) and installs
 #   /usr/lib/x86_64-linux-gnu/meshlab/plugins/libfilter_straightest_param.so   the plugin
 #   /usr/bin/straightest_param                                                 the command line tool
 #   /usr/share/straightest_param/straightest_param.mlx                         the example script
 #   /usr/share/doc/<package>/                                                  README, docs, copyright
-# The three ship the same /usr/bin/straightest_param, so they conflict with one another (a
+# They ship the same /usr/bin/straightest_param, so they conflict with one another (a
 # system has one MeshLab). Tested by tests/packages/deb_test.py: apt-get install, a run in that
 # MeshLab, apt-get remove.
 #
@@ -30,7 +28,7 @@ done
 work=$(mktemp -d "${TMPDIR:-/tmp}/sdp-debs.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
-# The command line tool's library dependencies, by the names Debian 12, 13 and sid share.
+# The command line tool's library dependencies, by the names every suite of the table shares.
 mkdir -p "$work/shlibs/debian"
 printf 'Source: straightest-param\n\nPackage: straightest-param\nArchitecture: any\n' \
   >"$work/shlibs/debian/control"
@@ -38,19 +36,17 @@ cli_depends=$(cd "$work/shlibs" && dpkg-shlibdeps -O "$cli" 2>/dev/null | sed -n
 [[ -n "$cli_depends" ]] || { echo "make-debs: dpkg-shlibdeps found nothing for $cli" >&2; exit 1; }
 
 mkdir -p "$out_dir"
-# package suffix  plugin folder  MeshLab version  where
-for entry in "2020 meshlab-2020.09 2020.09 Debian 12 (bookworm), Ubuntu 22.04 and 24.04" \
-             "2022 meshlab-2022.02 2022.02 Debian 13 (trixie)" \
-             "2025 meshlab-2025.07-float 2025.07 Debian sid, Ubuntu 26.04"; do
-  read -r suffix folder meshlab_version where <<<"$entry"
-  package="straightest-param-meshlab$suffix"
+source "$repo_dir/scripts/meshlab-builds.sh"
+packaged=$(meshlab_builds | awk -F'\t' '$8 != "-"')
+all_packages=$(cut -f8 <<<"$packaged" | sed 's/^/straightest-param-/')
+while IFS=$'\t' read -r -u 3 folder meshlab_version _api _scalar _runs_in _tarball _sha256 suffix _extras where; do
+  package="straightest-param-$suffix"
   plugin="$build_dir/plugins/$folder/libfilter_straightest_param.so"
   [[ -f "$plugin" ]] || { echo "make-debs: $plugin missing (cmake --build $build_dir)" >&2; exit 1; }
   # MeshLab's versions are YYYY.MM: the next month bounds "this version, any Debian revision".
   year=${meshlab_version%.*} month=${meshlab_version#*.}
   next=$(printf '%s.%02d' "$year" $((10#$month + 1)))
-  others=$(for s in 2020 2022 2025; do [[ $s == "$suffix" ]] || printf 'straightest-param-meshlab%s, ' "$s"; done)
-  others=${others%, }
+  others=$(grep -vx -- "$package" <<<"$all_packages" | paste -sd, | sed 's/,/, /g')
 
   staging="$work/$package"
   install -D -m 644 "$plugin" "$staging/usr/lib/x86_64-linux-gnu/meshlab/plugins/libfilter_straightest_param.so"
@@ -91,9 +87,9 @@ Description: MeshLab $meshlab_version filter: parameterization by straightest di
  Flattens a disk-shaped 3D surface patch onto the plane with per-wedge texture coordinates that
  never fold (Filters > Texture > Parametrization: Straightest Distances), with L2/Linf stretch,
  flipped faces and fallbacks reported; also the straightest_param command line tool.
- For the MeshLab $meshlab_version package of $where.
+ For MeshLab $meshlab_version: $where.
 EOF
   deb="$out_dir/${package}_${version}_amd64.deb"
   dpkg-deb --root-owner-group -Zxz --build "$staging" "$deb" >/dev/null
   echo "$deb"
-done
+done 3<<<"$packaged"

@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # Makes (once) a Debian root holding a newer release's MeshLab, for the tests that run our plugin
-# inside that real program: trixie (Debian 13) has MeshLab 2022.02, sid has 2025.07, both float.
+# inside that real program: one root per Debian suite named in meshlab-builds.tsv (runs_in).
 # Built with debootstrap from the machine's own Debian mirror into the cache folder and kept
 # there, so a re-run costs nothing; a root that was left half-made is built again.
 #
-# usage: scripts/make-meshlab-root.sh SUITE      SUITE: trixie | sid
+# usage: scripts/make-meshlab-root.sh SUITE      SUITE: a runs_in suite of meshlab-builds.tsv
 #   prints the root's folder; MeshLab then runs as `chroot ROOT meshlab` (see tests/meshlab_roots)
 #   SDP_CACHE_DIR      cache folder (default: ~/.cache/straightest-param); roots in roots/SUITE
 #   SDP_DEBIAN_MIRROR  Debian mirror (default: the first one in the machine's apt sources)
 # Needs root (debootstrap, chroot).
 set -euo pipefail
 
-if [[ $# -ne 1 || ! "$1" =~ ^(trixie|sid)$ ]]; then
-  echo "usage: $0 trixie|sid" >&2
+source "$(dirname "${BASH_SOURCE[0]}")/meshlab-builds.sh"
+suites=$(meshlab_root_suites | paste -sd'|')
+if [[ $# -ne 1 ]] || ! meshlab_root_suites | grep -qx -- "$1"; then
+  echo "usage: $0 $suites" >&2
   exit 2
 fi
 suite=$1
@@ -22,7 +24,9 @@ root="$cache_dir/roots/$suite"
 # MeshLab's own plugins need these libraries, which the package only recommends: without them
 # the GUI opens a modal "Error while loading plugins" dialog. mesa for software OpenGL under Xvfb.
 packages=(meshlab lib3ds-1-3 libgomp1 libmuparser2v5 libopenctm1 libqhull-r8.0 libgl1-mesa-dri)
-[[ $suite == trixie ]] && packages+=(libgmp10 libmpfr6 libxerces-c3.2t64)
+# What this suite's MeshLab needs beyond that (the table's root_extras).
+extras=$(meshlab_builds | awk -F'\t' -v suite="$suite" '$5 == suite && $9 != "-" { print $9 }' | tr ',' '\n' | sort -u)
+for extra in $extras; do packages+=("$extra"); done
 # The marker records what the root was made with: a change of the list rebuilds it.
 marker_text="sdp-root $suite ${packages[*]}"
 

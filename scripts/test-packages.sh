@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The packages as users install them (a stage of scripts/test.sh, after ctest; it needs the build):
-#   1. scripts/make-debs.sh, then tests/packages/deb_test.py for each .deb: MeshLab 2020.09 on this
-#      machine, 2022.02 in the trixie root, 2025.07 in the sid root (scripts/make-meshlab-root.sh);
+#   1. scripts/make-debs.sh, then tests/packages/deb_test.py for each .deb in the MeshLab of its
+#      row of meshlab-builds.tsv: on this machine (host) or in its suite's Debian root
+#      (scripts/make-meshlab-root.sh);
 #   2. scripts/make-wheel.sh, then tests/packages/wheel_test.py in a fresh virtual environment
 #      where only `pip install <wheel>` ran (it brings pymeshlab 2025.7.post1 from PyPI).
-# Not inside ctest on purpose: the 2020.09 case installs into this machine's MeshLab for a moment,
+# Not inside ctest on purpose: the host case installs into this machine's MeshLab for a moment,
 # which the meshlabserver and GUI tests (possibly run in parallel by ctest -j) must not see.
 #
 # usage: scripts/test-packages.sh [BUILD_DIR]
@@ -37,19 +38,22 @@ run_case() {  # name command...
 
 debs=$(bash "$repo_dir/scripts/make-debs.sh" "$build_dir" "$build_dir/debs")
 version=$(basename "$(echo "$debs" | head -n1)" | cut -d_ -f2)
-run_case deb_meshlab2020_this_machine "$python" "$repo_dir/tests/packages/deb_test.py" \
-  --deb "$build_dir/debs/straightest-param-meshlab2020_${version}_amd64.deb" \
-  --meshlab-version 2020.09 --mesh "$mesh" --bad-mesh "$bad_mesh" --out "$out/deb2020"
-if [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
-  run_case deb_meshlab2022_trixie "$python" "$repo_dir/tests/packages/deb_test.py" \
-    --deb "$build_dir/debs/straightest-param-meshlab2022_${version}_amd64.deb" \
-    --meshlab-version 2022.02 --mesh "$mesh" --bad-mesh "$bad_mesh" --out "$out/deb2022" \
-    --root "$roots/trixie" --harness "$build_dir/bin/meshlab_harness_202202"
-  run_case deb_meshlab2025_sid "$python" "$repo_dir/tests/packages/deb_test.py" \
-    --deb "$build_dir/debs/straightest-param-meshlab2025_${version}_amd64.deb" \
-    --meshlab-version 2025.07 --mesh "$mesh" --bad-mesh "$bad_mesh" --out "$out/deb2025" \
-    --root "$roots/sid" --harness "$build_dir/bin/meshlab_harness_202507"
-fi
+source "$repo_dir/scripts/meshlab-builds.sh"
+while IFS=$'\t' read -r -u 3 _folder meshlab_version _api _scalar runs_in _tarball _sha256 suffix _rest; do
+  [[ $suffix != - ]] || continue
+  deb="$build_dir/debs/straightest-param-${suffix}_${version}_amd64.deb"
+  if [[ $runs_in == host ]]; then
+    run_case "deb_${suffix}_this_machine" "$python" "$repo_dir/tests/packages/deb_test.py" \
+      --deb "$deb" --meshlab-version "$meshlab_version" --mesh "$mesh" --bad-mesh "$bad_mesh" \
+      --out "$out/deb_$suffix"
+  elif [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
+    # The harness tests/meshlab_roots builds for this version (meshlab_harness_YYYYMM).
+    run_case "deb_${suffix}_$runs_in" "$python" "$repo_dir/tests/packages/deb_test.py" \
+      --deb "$deb" --meshlab-version "$meshlab_version" --mesh "$mesh" --bad-mesh "$bad_mesh" \
+      --out "$out/deb_$suffix" --root "$roots/$runs_in" \
+      --harness "$build_dir/bin/meshlab_harness_${meshlab_version//./}"
+  fi
+done 3< <(meshlab_builds)
 
 wheel=$(bash "$repo_dir/scripts/make-wheel.sh" "$build_dir" "$build_dir/wheels")
 # What the wheel's platform tag may honestly be (README, pymeshlab section).

@@ -2,13 +2,13 @@
 # Regenerates the README's MeshLab pictures from real runs of the GUI test
 # (tests/gui/meshlab_gui_test.py: MeshLab under Xvfb, Filters -> Texture -> Parametrization:
 # Straightest Distances -> Apply), for each MeshLab GUI the project is tested in:
-#   2020.09  Debian 12's MeshLab, our plugin from a private prefix:
+#   this machine's MeshLab (the host row of meshlab-builds.tsv), our plugin from a private prefix:
 #     docs/images/meshlab_menu.png      the open Filters -> Texture menu, our entry highlighted
 #     docs/images/meshlab_dialog.png    the filter's parameter dialog
 #     docs/images/meshlab_textured.png  the MeshLab window after Apply: checkerboard on the mesh,
 #                                       our report (L2 stretch, ...) in the log pane
-#   2022.02  Debian 13's MeshLab and Debian sid's 2025.07, each in its Debian root
-#   2025.07  (scripts/make-meshlab-root.sh), our plugin in the per-user plugin folder:
+#   each MeshLab of the table that runs in a Debian root (scripts/make-meshlab-root.sh), our plugin
+#   in the per-user plugin folder:
 #     docs/images/meshlab-<version>_{menu,dialog,textured}.png
 # Fails if a GUI test fails; the pictures of the versions before it are already updated.
 #
@@ -29,8 +29,11 @@ if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
   echo "update-readme-pictures: no build in $build_dir; configure it first (cmake -S . -B build)" >&2
   exit 1
 fi
-cmake --build "$build_dir" --target filter_straightest_param_meshlab2020 \
-  filter_straightest_param_meshlab2022 filter_straightest_param_meshlab2025_float
+source "$repo_dir/scripts/meshlab-builds.sh"
+# version  plugin folder  where MeshLab runs  picture name prefix: the GUIs of the table.
+guis=$(meshlab_builds | awk -F'\t' '$5 == "host" { print $2, $1, "prefix", "meshlab" }
+                                     $5 != "host" && $5 != "pymeshlab" { print $2, $1, $5, "meshlab-" $2 }')
+cmake --build "$build_dir" --target $(awk '{ print "plugin_" $2 }' <<<"$guis")
 [[ -f "$mesh" ]] || { echo "update-readme-pictures: $mesh missing (set SDP_SHARED_DIR)" >&2; exit 1; }
 for tool in convert identify python3; do
   command -v "$tool" >/dev/null || { echo "update-readme-pictures: $tool missing (scripts/install-deps.sh)" >&2; exit 1; }
@@ -45,11 +48,7 @@ crop() {  # crop SRC BOX DEST: no metadata (no dates), so an unchanged picture s
   mv "$3.tmp.png" "$3"
 }
 
-# version  plugin folder  where MeshLab runs  picture name prefix
-for entry in "2020.09 meshlab-2020.09 prefix meshlab" \
-             "2022.02 meshlab-2022.02 trixie meshlab-2022.02" \
-             "2025.07 meshlab-2025.07-float sid meshlab-2025.07"; do
-  read -r version folder where name <<<"$entry"
+while read -r -u 3 version folder where name; do
   plugin="$build_dir/plugins/$folder/libfilter_straightest_param.so"
   out="$work/gui-$version"
   if [[ $where == prefix ]]; then
@@ -79,4 +78,4 @@ EOF
   for picture in menu dialog textured; do
     echo "$images/${name}_$picture.png: $(identify -format '%wx%h' "$images/${name}_$picture.png")"
   done
-done
+done 3<<<"$guis"

@@ -1,6 +1,6 @@
-// MeshLab 2020.09 shim (Debian's meshlab GUI and meshlabserver): a thin MeshFilterInterface over
-// the shared filter description and the core. Everything it shows comes from
-// filter_definition.h; everything it computes comes from sdp::parameterize.
+// MeshFilterInterface shim (the plugin API of MeshLab 2020.09: Debian 12's GUI and meshlabserver):
+// a thin MeshFilterInterface over the shared filter description and the core. Everything it
+// shows comes from filter_definition.h; everything it computes comes from sdp::parameterize.
 #pragma once
 
 #include <common/interfaces.h>

@@ -1,4 +1,4 @@
-// MeshLab 2025.07 shim (pymeshlab 2025.7, and the MeshLab 2022.02 and 2025.07 GUIs): a thin
+// FilterPlugin shim (the plugin API of MeshLab 2022 and later: their GUIs and pymeshlab): a thin
 // FilterPlugin over the shared filter descriptions and the core, with two filters. pymeshlab
 // exposes them as MeshSet.compute_texcoord_parametrization_straightest_distances(...) and
 // ..._straightest_distances_atlas(...), each returning its report dict.

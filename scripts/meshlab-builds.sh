@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Sourced by the scripts that need the MeshLab builds (meshlab-builds.tsv at the repository's
+# top): `meshlab_builds` prints its rows without comments, tab-separated, in the table's order:
+#   while IFS=$'\t' read -r folder version api scalar runs_in tarball sha256 deb root_extras users; do
+#     ...
+#   done < <(meshlab_builds)
+# and `meshlab_root_suites` the Debian suites whose roots the tests run MeshLab in, once each.
+meshlab_builds_table="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/meshlab-builds.tsv"
+meshlab_builds() {
+  grep -v -e '^#' -e '^[[:space:]]*$' "$meshlab_builds_table"
+}
+meshlab_root_suites() {
+  meshlab_builds | awk -F'\t' '$5 != "host" && $5 != "pymeshlab" && !seen[$5]++ { print $5 }'
+}

@@ -1,0 +1,84 @@
+#!/usr/bin/env python3
+"""The README's table of supported MeshLab builds, generated from meshlab-builds.tsv.
+
+  python3 scripts/meshlab_builds.py --check   fails, naming the block, when README.md differs
+  python3 scripts/meshlab_builds.py --write   rewrites the block between
+                                              <!-- table:meshlab-builds --> and its end marker
+"""
+import argparse
+import pathlib
+import sys
+
+REPO = pathlib.Path(__file__).resolve().parent.parent
+BEGIN, END = "<!-- table:meshlab-builds -->\n", "<!-- /table:meshlab-builds -->"
+COLUMNS = ["folder", "version", "api", "scalar", "runs_in", "tarball", "sha256", "deb",
+           "root_extras", "users_get_it"]
+API_NAMES = {"mesh_filter_interface": "MeshFilterInterface", "filter_plugin": "FilterPlugin"}
+
+
+def builds(table=REPO / "meshlab-builds.tsv"):
+    rows = []
+    for line in table.read_text().splitlines():
+        if not line.strip() or line.startswith("#"):
+            continue
+        fields = line.split("\t")
+        if len(fields) != len(COLUMNS):
+            sys.exit(f"meshlab_builds: {table}: {len(fields)} fields, want {len(COLUMNS)}: {line}")
+        rows.append(dict(zip(COLUMNS, fields)))
+    return rows
+
+
+def tested_here(build):
+    where = build["runs_in"]
+    if where == "host":
+        return ("yes, on this Debian 12: GUI under Xvfb (`tests/gui`) and meshlabserver "
+                "(`tests/meshlab`, `tests/robustness`)")
+    if where == "pymeshlab":
+        return "yes, pytest inside real pymeshlab (`tests/python`)"
+    return (f"yes, in a Debian {where} root (`scripts/make-meshlab-root.sh {where}`): GUI under "
+            "Xvfb and the headless harness (`tests/meshlab_roots`)")
+
+
+def package(build):
+    if build["deb"] != "-":
+        return f"`straightest-param-{build['deb']}` (.deb)"
+    if build["runs_in"] == "pymeshlab":
+        return "`pymeshlab_straightest` (wheel)"
+    return "–"
+
+
+def markdown():
+    lines = ["| MeshLab | where users get it | plugin API | precision | plugin folder in "
+             "`build/plugins/` | package | tested here |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for b in builds():
+        lines.append(f"| {b['version']} | {b['users_get_it']} | {API_NAMES[b['api']]} | "
+                     f"{b['scalar']} | `{b['folder']}` | {package(b)} | {tested_here(b)} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--readme", default=str(REPO / "README.md"))
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--check", action="store_true")
+    mode.add_argument("--write", action="store_true")
+    args = parser.parse_args()
+    path = pathlib.Path(args.readme)
+    text = path.read_text()
+    begin = text.find(BEGIN)
+    end = text.find(END, begin) if begin >= 0 else -1
+    if end < 0:
+        sys.exit(f"meshlab_builds: {path} has no {BEGIN.strip()} ... {END} block")
+    body = begin + len(BEGIN)
+    generated = markdown()
+    if text[body:end] == generated:
+        return
+    if args.check:
+        sys.exit(f"meshlab_builds: the MeshLab builds table in {path} differs from "
+                 "meshlab-builds.tsv; run python3 scripts/meshlab_builds.py --write")
+    path.write_text(text[:body] + generated + text[end:])
+
+
+if __name__ == "__main__":
+    main()
