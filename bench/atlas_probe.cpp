@@ -5,7 +5,7 @@
 
 #include "core/atlas/atlas.h"
 #include "core/atlas/measure.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 
 int main(int argc, char** argv) {
   if (argc < 2) return 2;

@@ -21,7 +21,7 @@
 #include <string>
 
 #include "core/parameterize.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "midpoint_subdivision.h"
 #include "peak_memory.h"
 

@@ -1,4 +1,4 @@
-// The checkerboard PNG: the project's writer (zlib's deflate in a PNG container, cli/mesh_io)
+// The checkerboard PNG: the project's writer (zlib's deflate in a PNG container, io/png.cpp)
 // against libpng's, on the default (1024) and the largest (8192) texture size. Both files are
 // read back with libpng and compared with the pixels. bench/readers.py runs it.
 //   sdp_png_bench FOLDER   prints one line per size: seconds and bytes of each, and whether
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "best_of_three.h"
-#include "filter_straightest_param/checkerboard.h"
-#include "mesh_io.h"
+#include "io/checkerboard.h"
+#include "io/mesh_io.h"
 
 namespace {
 

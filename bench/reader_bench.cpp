@@ -1,4 +1,4 @@
-// The project's mesh readers (cli/mesh_io) against vcglib's importers, the code MeshLab itself
+// The project's mesh readers (the io/ library) against vcglib's importers, the code MeshLab itself
 // reads OFF, OBJ and PLY with (tri::io::ImporterOFF/OBJ/PLY of MeshLab 2025.07's vcglib), on
 // speed and on bad input. bench/readers.py drives it.
 //   sdp_reader_bench time FILE...        per file: best of 3 reads with each, seconds
@@ -17,7 +17,7 @@
 #include <wrap/io_trimesh/import_ply.h>
 
 #include "best_of_three.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "core/parameterize.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 
 int main(int argc, char** argv) {
   if (argc != 3) {

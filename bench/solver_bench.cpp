@@ -31,7 +31,7 @@
 #include "core/patch.h"
 #include "core/solve.h"
 #include "core/weights.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "midpoint_subdivision.h"
 
 #ifdef SDP_BENCH_UMFPACK

@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "core/parameterize.h"
-#include "filter_straightest_param/checkerboard.h"
 #include "filter_straightest_param/filter_definition.h"
-#include "mesh_io.h"
+#include "io/checkerboard.h"
+#include "io/mesh_io.h"
 
 #ifndef SDP_VERSION
 #define SDP_VERSION "unknown"

@@ -13,8 +13,8 @@
 #include <type_traits>
 
 #include "core/error.h"
-#include "filter_straightest_param/checkerboard.h"
 #include "filter_straightest_param/filter_definition.h"
+#include "io/checkerboard.h"
 #include "vcg_adapters/mesh_run.h"
 #include "vcg_adapters/patch_adapter.h"
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 
 namespace fs = std::filesystem;

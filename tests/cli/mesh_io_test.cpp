@@ -1,4 +1,4 @@
-// Mesh readers and writers of the command line tool (cli/mesh_io.h).
+// Mesh readers and writers of the io/ library (io/mesh_io.h).
 #include <gtest/gtest.h>
 #include <zlib.h>
 
@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "filter_straightest_param/checkerboard.h"
-#include "mesh_io.h"
+#include "io/checkerboard.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 
 namespace fs = std::filesystem;
@@ -638,6 +638,70 @@ TEST_F(TempDirTest, WritersKeepASeamPerCorner) {
   float u = 0;
   std::memcpy(&u, bytes.data() + body + 3 * record + record - 8, 4);
   EXPECT_EQ(u, 0.75f);
+}
+
+// The readers give the seam back: the OBJ's rows and corners as written, the PLY's per-corner
+// values (in float, as written), so a tool's atlas can be scored from its file.
+TEST_F(TempDirTest, ReadersGiveBackASeamPerCorner) {
+  const TexturedMesh m = makeTexturedMesh();
+  sdp::Layout layout = m.layout();
+  layout.uv.conservativeResize(6, 2);
+  layout.uv.row(5) << 0.75, 0.25;
+  layout.face_uv(3, 2) = 5;
+  const fs::path obj = dir_ / "seam.obj", ply = dir_ / "seam.ply";
+  sdp::io::writeObjWithTexture(obj.string(), m.V, m.F, layout, "t.png");
+  sdp::io::writePly(ply.string(), m.V, m.F, layout);
+
+  const MeshData from_obj = sdp::io::readMesh(obj.string());
+  EXPECT_EQ(from_obj.F, m.F);
+  EXPECT_EQ(from_obj.texcoords.uv, layout.uv);
+  EXPECT_EQ(from_obj.texcoords.face_uv, layout.face_uv);
+  EXPECT_EQ(from_obj.faces_without_texcoords, 0);
+
+  const MeshData from_ply = sdp::io::readMesh(ply.string());
+  EXPECT_EQ(from_ply.F, m.F);
+  ASSERT_EQ(from_ply.texcoords.face_uv.rows(), m.F.rows());
+  for (int f = 0; f < m.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      for (int axis = 0; axis < 2; ++axis) {
+        const float written = static_cast<float>(layout.corner(f, k)[axis]);
+        EXPECT_EQ(from_ply.texcoords.corner(f, k)[axis], static_cast<double>(written))
+            << "face " << f << " corner " << k;
+      }
+    }
+  }
+}
+
+// Polygons keep each corner's coordinate through the fan; corners without one, and references
+// that cannot be resolved, read as -1 and leave the mesh readable.
+TEST(ObjReader, TexcoordsFollowTheFanAndMissingOnesAreCounted) {
+  const MeshData mesh = readMeshFromMemory(
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+      "f 1/1 2/2 3/3 4/4\nf 1 2 3\nf 1/9 2/2 3/3\n",
+      "obj");
+  ASSERT_EQ(mesh.F.rows(), 4);
+  ASSERT_EQ(mesh.texcoords.face_uv.rows(), 4);
+  EXPECT_EQ(mesh.texcoords.uv.rows(), 4);
+  EXPECT_EQ(mesh.texcoords.face_uv.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(mesh.texcoords.face_uv.row(1), Eigen::RowVector3i(0, 2, 3));
+  EXPECT_EQ(mesh.texcoords.face_uv.row(2), Eigen::RowVector3i(-1, -1, -1));
+  EXPECT_EQ(mesh.texcoords.face_uv.row(3), Eigen::RowVector3i(-1, 1, 2));
+  EXPECT_EQ(mesh.faces_without_texcoords, 2);
+  EXPECT_EQ(readMeshFromMemory("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "obj").texcoords.uv.rows(),
+            0);
+}
+
+TEST(PlyReader, PerVertexTexcoordsBecomeTheCornersOfEachFace) {
+  const MeshData mesh = readMeshFromMemory(
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float s\nproperty float t\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 0.5 0\n0 1 0 0 0.5\n"
+      "3 0 1 2\n",
+      "ply");
+  ASSERT_EQ(mesh.texcoords.uv.rows(), 3);
+  EXPECT_EQ(mesh.texcoords.face_uv.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(mesh.texcoords.uv(1, 0), 0.5);
+  EXPECT_EQ(mesh.texcoords.uv(2, 1), 0.5);
 }
 
 TEST_F(TempDirTest, PlyRoundTripKeepsMeshAndPerWedgeTexcoords) {

@@ -15,7 +15,7 @@
 #include "core/atlas/measure.h"
 #include "core/atlas/raster.h"
 #include "core/error.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"
 

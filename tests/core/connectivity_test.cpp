@@ -3,8 +3,8 @@
 // orientation. Counts from the meshes' README (../shared/meshes) and small meshes built here.
 #include <gtest/gtest.h>
 
-#include "cli/mesh_io.h"
 #include "core/connectivity.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 
 namespace sdp {

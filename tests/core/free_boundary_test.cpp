@@ -7,7 +7,7 @@
 
 #include "core/parameterize.h"
 #include "core/stretch_newton.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "core/parameterize.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"
 

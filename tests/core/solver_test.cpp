@@ -9,7 +9,7 @@
 #include "core/patch.h"
 #include "core/solve.h"
 #include "core/weights.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"
 

@@ -16,7 +16,7 @@
 #include "core/atlas/measure.h"
 #include "core/connectivity.h"
 #include "core/parameterize.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 
 namespace {
 

@@ -113,7 +113,7 @@ TEXTURE_FILTERS = {
 }
 # "Applied filter NAME in N msec"; 2025.07 writes "Applied filter: NAME".
 APPLIED_LINE = r"Applied filter:? %s in \d+ msec"
-# filter_straightest_param/checkerboard.cpp: light squares, dark squares, grid lines.
+# io/checkerboard.cpp: light squares, dark squares, grid lines.
 CHECKER_COLOURS = {(235, 235, 235), (40, 40, 40), (200, 40, 40)}
 TEXTURE_NAME = "straightest_checker.png"  # default of the `texturename` parameter
 ATLAS_TEXTURE_NAME = "straightest_atlas.png"  # the atlas filter's default

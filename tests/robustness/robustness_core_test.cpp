@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "core/parameterize.h"
-#include "mesh_io.h"
+#include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"  // tests/core: grids, fans, countNonPositiveFaces
 

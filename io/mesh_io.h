@@ -1,4 +1,6 @@
-// Mesh files for the command line tool: OFF, OBJ and PLY in, OBJ+MTL+PNG or PLY out.
+// Mesh files, for the command line tool, the tests, the fuzzer and the bench: OFF, OBJ and PLY
+// in (with per-corner texture coordinates where the file has them), OBJ+MTL+PNG or PLY out. One
+// file per format (io/off.cpp, obj.cpp, ply.cpp, png.cpp); io/checkerboard.h is the texture.
 // Readers take untrusted bytes (a fuzzer drives them): every problem is a ParameterizationError
 // with a one-line reason naming the file, never a crash, a hang or an allocation larger than the
 // input justifies. Writers replace their target atomically (temporary file + rename).
@@ -15,6 +17,13 @@ struct MeshData {
   sdp::Positions V;
   sdp::Triangles F;
   int polygons_triangulated = 0;  // input faces with more than 3 corners, fan-triangulated
+  // The file's texture coordinates, per triangle corner: texcoords.uv #U×2 and
+  // texcoords.face_uv #F×3 (row of uv, -1 at a corner the file gives none), as another tool
+  // stored them, seams included. From OBJ `vt` and `f v/vt`, PLY face `texcoord` lists (u0 v0
+  // u1 v1 ..., MeshLab's wedge coordinates) or PLY per-vertex s/t, u/v or texture_u/texture_v.
+  // Empty (0 rows) when the file has none.
+  Layout texcoords;
+  int faces_without_texcoords = 0;  // faces with a corner at -1, when texcoords is not empty
 };
 
 // Dispatches on the extension (.off, .obj, .ply, any letter case). The reason of an error starts
