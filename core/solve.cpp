@@ -4,6 +4,8 @@
 #include <string>
 
 #include "error.h"
+#include "linear/krylov.h"
+#include "linear/ordering.h"
 #include "parallel.h"
 #include "work.h"
 
@@ -20,33 +22,21 @@ double secondsSince(Clock::time_point start) {
 
 InteriorSolver::InteriorSolver(const Patch& patch, const SolverSettings& settings)
     : patch_(patch), settings_(settings), unknown_(patch.vertexCount(), -1) {
-  // Unknowns in breadth-first order over the mesh (Cuthill-McKee without the degree sort): rows
-  // that are neighbours in the mesh are near in memory, so every sweep reads x from cache. In
-  // input order a subdivided mesh puts a vertex and its neighbours megabytes apart.
-  // Starting next to the boundary keeps the fronts, and so the bandwidth, short.
-  const int n = patch.vertexCount();
-  std::vector<int>& order = interior_vertex_;
-  order.reserve(patch.interiorCount());
-  auto visit = [&](int v) {
-    if (patch.on_boundary[v] || unknown_[v] >= 0) return;
-    unknown_[v] = unknowns_++;
-    order.push_back(v);
-  };
-  for (int seed = -1; seed < n; ++seed) {
-    const size_t head_start = order.size();
-    if (seed < 0) {
-      const int b = patch.boundary_loop.empty() ? 0 : patch.boundary_loop.front();
-      for (int k = patch.ring_begin[b]; k < patch.ring_begin[b + 1]; ++k)
-        visit(patch.ring_vertex[k]);
-    } else {
-      visit(seed);
-    }
-    for (size_t head = head_start; head < order.size(); ++head) {
-      const int v = order[head];
-      for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k)
-        visit(patch.ring_vertex[k]);
-    }
+  // Unknowns in breadth-first order over the interior (core/linear/ordering.h), starting next to
+  // the boundary: that keeps the fronts, and so the bandwidth, short.
+  std::vector<int> first_front;
+  if (patch.interiorCount() > 0) {
+    const int b = patch.boundary_loop.empty() ? 0 : patch.boundary_loop.front();
+    first_front.assign(patch.ring_vertex.begin() + patch.ring_begin[b],
+                       patch.ring_vertex.begin() + patch.ring_begin[b + 1]);
   }
+  interior_vertex_ = breadthFirstOrder(
+      patch.vertexCount(), first_front, [&](int v) { return !patch.on_boundary[v]; },
+      [&](int v, auto&& visit) {
+        for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k)
+          visit(patch.ring_vertex[k]);
+      });
+  for (int v : interior_vertex_) unknown_[v] = unknowns_++;
 }
 
 void InteriorSolver::assemble(const std::vector<double>& weights, const LocalUVs& uv, SplitCsr& A,

@@ -13,6 +13,7 @@
 #include "free_boundary.h"
 #include "geometry.h"
 #include "linear/block_multigrid.h"
+#include "linear/krylov.h"
 #include "parallel.h"
 #include "work.h"
 
@@ -299,35 +300,17 @@ class AssembledNewtonSystem {
     });
   }
 
-  // Truncated preconditioned conjugate gradients for H d = -gradient from d = 0, to the
-  // relative residual `tolerance`: every iterate descends, so a loose solve still gives a step
-  // the line search can take (the Polak-Ribiere form tolerates a preconditioner that is not
-  // exactly symmetric). Returns the iterations used.
+  // The Newton direction: truncated preconditioned CG (core/linear/krylov.h) for
+  // H d = -gradient from d = 0, to the relative residual `tolerance`. Returns the iterations.
   int solve(const Eigen::VectorXd& gradient, Eigen::VectorXd& direction, double tolerance,
             int max_iterations) const {
     const Eigen::Index size = gradient.size();
-    direction.setZero(size);
-    Eigen::VectorXd r = -gradient, z(size), z_old(size), p(size), q(size);
-    const double stop = tolerance * r.norm();
-    preconditioner_.applyCycle(r.data(), z.data());
-    p = z;
-    double rz = r.dot(z);
-    int it = 0;
-    while (it < max_iterations && r.norm() > stop) {
-      ++it;
-      multiply(p, q);
-      const double curvature = p.dot(q);
-      if (!(curvature > 0) || !(rz > 0)) break;
-      const double alpha = rz / curvature;
-      direction += alpha * p;
-      r -= alpha * q;
-      z_old.swap(z);
-      preconditioner_.applyCycle(r.data(), z.data());
-      const double rz_new = r.dot(z);
-      const double beta = std::max(0.0, (rz_new - r.dot(z_old)) / rz);
-      rz = rz_new;
-      p = z + beta * p;
-    }
+    const int it = truncatedConjugateGradients(
+        [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { multiply(p, q); },
+        [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+          preconditioner_.applyCycle(r.data(), z.data());
+        },
+        -gradient, direction, tolerance, max_iterations);
     // Per iteration one product H p (face by face), one cycle (counted by the
     // preconditioner) and about eight vector passes.
     spent_work_ +=

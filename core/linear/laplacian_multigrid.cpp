@@ -2,26 +2,19 @@
 
 #include <cmath>
 
+#include "core/linear/krylov.h"
+#include "core/linear/ordering.h"
 #include "core/work.h"
 
 namespace sdp {
 
 void LaplacianMultigrid::orderBreadthFirst(const Eigen::SparseMatrix<double>& L) {
-  const int n = static_cast<int>(L.rows());
-  std::vector<bool> placed(n, false);
-  order_.clear();
-  order_.reserve(n);
-  for (int seed = 0; seed < n; ++seed) {
-    if (placed[seed]) continue;
-    placed[seed] = true;
-    order_.push_back(seed);
-    for (size_t head = order_.size() - 1; head < order_.size(); ++head)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(L, order_[head]); it; ++it)
-        if (!placed[it.row()]) {
-          placed[it.row()] = true;
-          order_.push_back(static_cast<int>(it.row()));
-        }
-  }
+  order_ = breadthFirstOrder(
+      static_cast<int>(L.rows()), {}, [](int) { return true; },
+      [&](int v, auto&& visit) {
+        for (Eigen::SparseMatrix<double>::InnerIterator it(L, v); it; ++it)
+          visit(static_cast<int>(it.row()));
+      });
 }
 
 namespace {

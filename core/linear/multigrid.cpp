@@ -524,26 +524,6 @@ void Multigrid::cycle(const double* b, double* x, MultigridWorkspace& work) cons
   cycleFrom<K>(0, b, x, work);
 }
 
-namespace {
-
-template <int K>
-void columnNorms(const std::vector<double>& v, double* norm) {
-  double s[K] = {};
-  const size_t n = v.size() / K;
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < K; ++c) s[c] += v[i * K + c] * v[i * K + c];
-  for (int c = 0; c < K; ++c) norm[c] = std::sqrt(s[c]);
-}
-
-template <int K>
-void columnDots(const std::vector<double>& a, const std::vector<double>& b, double* dot) {
-  double s[K] = {};
-  const size_t n = a.size() / K;
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < K; ++c) s[c] += a[i * K + c] * b[i * K + c];
-  for (int c = 0; c < K; ++c) dot[c] = s[c];
-}
-
 // y = A x with the column dots (y, w) and (y, y) taken on the way: the Krylov vector updates
 // are memory-bound passes, and each fused dot saves one.
 template <int K>
@@ -563,141 +543,13 @@ void multiplyWithDots(const SplitCsr& A, const double* __restrict x, double* __r
   }
 }
 
-}  // namespace
-
-template <int K>
-KrylovOutcome solveBiCgStab(const Multigrid& mg, const double* b, double* x, double tolerance,
-                            int max_iterations) {
-  const SplitCsr& A = mg.fine();
-  const size_t N = static_cast<size_t>(A.size) * K;
-  // phat is added to x as soon as alpha is known, so shat can take its storage.
-  std::vector<double> r(N), rhat(N), p(N, 0.0), v(N, 0.0), hat(N), t(N);
-  MultigridWorkspace work = mg.makeWorkspace(K);
-  double bnorm[K], rnorm[K];
-  {
-    std::vector<double> bv(b, b + N);
-    columnNorms<K>(bv, bnorm);
-  }
-  auto trueResidual = [&]() {
-    multiply<K>(A, x, r.data());
-    for (size_t i = 0; i < N; ++i) r[i] = b[i] - r[i];
-    columnNorms<K>(r, rnorm);
-    double worst = 0;
-    for (int c = 0; c < K; ++c) worst = std::max(worst, bnorm[c] > 0 ? rnorm[c] / bnorm[c] : 0.0);
-    return worst;
-  };
-  KrylovOutcome out;
-  out.relative_residual = trueResidual();
-  // Restarts from the true residual when the recurrence claims convergence too early.
-  while (out.relative_residual > tolerance && out.iterations < max_iterations) {
-    bool active[K];
-    double rho[K], alpha[K], omega[K];
-    for (int c = 0; c < K; ++c) {
-      active[c] = rnorm[c] > tolerance * bnorm[c];
-      rho[c] = alpha[c] = omega[c] = 1.0;
-    }
-    rhat = r;
-    std::fill(p.begin(), p.end(), 0.0);
-    std::fill(v.begin(), v.end(), 0.0);
-    bool breakdown = false;
-    double rho_new[K];
-    columnDots<K>(rhat, r, rho_new);  // later taken in the update of r
-    while (out.iterations < max_iterations && !breakdown) {
-      bool any = false;
-      for (int c = 0; c < K; ++c) any = any || active[c];
-      if (!any) break;
-      ++out.iterations;
-      double beta[K];
-      for (int c = 0; c < K; ++c) {
-        beta[c] = 0;
-        if (!active[c]) continue;
-        if (!(std::abs(rho_new[c]) > 0) || !std::isfinite(rho_new[c])) {
-          breakdown = true;
-          continue;
-        }
-        beta[c] = (rho_new[c] / rho[c]) * (alpha[c] / omega[c]);
-        rho[c] = rho_new[c];
-      }
-      if (breakdown) break;
-      for (size_t i = 0; i < N; i += K)
-        for (int c = 0; c < K; ++c)
-          p[i + c] = r[i + c] + beta[c] * (p[i + c] - omega[c] * v[i + c]);
-      mg.cycle<K>(p.data(), hat.data(), work);
-      double rv[K], vv[K];
-      multiplyWithDots<K>(A, hat.data(), v.data(), rhat.data(), rv, vv);
-      for (int c = 0; c < K; ++c) {
-        alpha[c] = 0;
-        if (!active[c]) continue;
-        if (!(std::abs(rv[c]) > 0) || !std::isfinite(rv[c])) {
-          breakdown = true;
-          continue;
-        }
-        alpha[c] = rho[c] / rv[c];
-      }
-      if (breakdown) break;
-      double snorm[K] = {};
-      for (size_t i = 0; i < N; i += K)
-        for (int c = 0; c < K; ++c) {
-          x[i + c] += alpha[c] * hat[i + c];
-          r[i + c] -= alpha[c] * v[i + c];  // r now holds s
-          snorm[c] += r[i + c] * r[i + c];
-        }
-      bool second_half[K];
-      for (int c = 0; c < K; ++c) {
-        second_half[c] = active[c] && std::sqrt(snorm[c]) > tolerance * bnorm[c];
-        if (!second_half[c]) active[c] = false;
-      }
-      mg.cycle<K>(r.data(), hat.data(), work);
-      double ts[K], tt[K];
-      multiplyWithDots<K>(A, hat.data(), t.data(), r.data(), ts, tt);
-      for (int c = 0; c < K; ++c) {
-        if (!second_half[c]) {
-          omega[c] = 1.0;  // keeps the next beta finite; the column no longer moves
-          continue;
-        }
-        if (!(tt[c] > 0) || !std::isfinite(ts[c])) {
-          breakdown = true;
-          continue;
-        }
-        omega[c] = ts[c] / tt[c];
-        if (!(std::abs(omega[c]) > 0)) breakdown = true;
-      }
-      if (breakdown) break;
-      double r2[K] = {};
-      for (int c = 0; c < K; ++c) {
-        rho_new[c] = 0;
-        if (!second_half[c]) omega[c] = 0;  // x and r of a finished column stay as they are
-      }
-      for (size_t i = 0; i < N; i += K)
-        for (int c = 0; c < K; ++c) {
-          x[i + c] += omega[c] * hat[i + c];
-          r[i + c] -= omega[c] * t[i + c];
-          r2[c] += r[i + c] * r[i + c];
-          rho_new[c] += rhat[i + c] * r[i + c];
-        }
-      for (int c = 0; c < K; ++c)
-        if (!second_half[c]) omega[c] = 1.0;  // keeps the next beta finite
-      for (int c = 0; c < K; ++c) {
-        if (!second_half[c]) continue;
-        rnorm[c] = std::sqrt(r2[c]);
-        if (!std::isfinite(rnorm[c])) breakdown = true;
-        active[c] = rnorm[c] > tolerance * bnorm[c];
-      }
-    }
-    const double before = out.relative_residual;
-    out.relative_residual = trueResidual();
-    if (breakdown || !std::isfinite(out.relative_residual)) break;
-    if (!(out.relative_residual < before)) break;  // a restart that gains nothing will not
-  }
-  out.converged = std::isfinite(out.relative_residual) && out.relative_residual <= tolerance;
-  return out;
-}
-
 template void Multigrid::cycle<1>(const double*, double*, MultigridWorkspace&) const;
 template void Multigrid::cycle<2>(const double*, double*, MultigridWorkspace&) const;
 template void multiply<1>(const SplitCsr&, const double*, double*);
 template void multiply<2>(const SplitCsr&, const double*, double*);
-template KrylovOutcome solveBiCgStab<1>(const Multigrid&, const double*, double*, double, int);
-template KrylovOutcome solveBiCgStab<2>(const Multigrid&, const double*, double*, double, int);
+template void multiplyWithDots<1>(const SplitCsr&, const double*, double*, const double*, double*,
+                                  double*);
+template void multiplyWithDots<2>(const SplitCsr&, const double*, double*, const double*, double*,
+                                  double*);
 
 }  // namespace sdp

@@ -118,20 +118,14 @@ class Multigrid {
   Eigen::PartialPivLU<Eigen::MatrixXd> coarsest_lu_;
 };
 
-struct KrylovOutcome {
-  int iterations = 0;
-  double relative_residual = 0;  // ||b - A x|| / ||b||, worst column, recomputed at the end
-  bool converged = false;
-};
-
-// Right-preconditioned BiCGSTAB on K interleaved right-hand sides in lockstep (each column has
-// its own scalars and stops moving when it converges). x holds the initial guess and the result.
-template <int K>
-KrylovOutcome solveBiCgStab(const Multigrid& mg, const double* b, double* x, double tolerance,
-                            int max_iterations);
-
 // y = A x on K interleaved columns.
 template <int K>
 void multiply(const SplitCsr& A, const double* x, double* y);
+
+// y = A x with the column dots (y, w) and (y, y) taken on the way (core/linear/krylov.h's
+// BiCGSTAB: the vector updates are memory-bound passes, and each fused dot saves one).
+template <int K>
+void multiplyWithDots(const SplitCsr& A, const double* x, double* y, const double* w, double* yw,
+                      double* yy);
 
 }  // namespace sdp
