@@ -27,6 +27,13 @@ inline QString qstr(const std::string& s) {
 // The filters of the plugin: the patch filter and the atlas filter, each with its own table.
 enum class Filter { Patch, Atlas };
 
+// The filter behind a shim's action id: both shims number them FP_STRAIGHTEST_PARAM,
+// FP_STRAIGHTEST_ATLAS.
+template <class Plugin>
+Filter filterOf(int id) {
+  return id == Plugin::FP_STRAIGHTEST_ATLAS ? Filter::Atlas : Filter::Patch;
+}
+
 inline const std::vector<sdp::filter::ParameterDescription>& tableOf(Filter filter) {
   return filter == Filter::Atlas ? sdp::filter::atlasParameters() : sdp::filter::parameters();
 }

@@ -21,12 +21,7 @@ QString FilterStraightestParamPlugin::vendor() const {
   return "straightest_param";
 }
 
-namespace {
-sdp::meshlab::Filter filterOf(int id) {
-  return id == FilterStraightestParamPlugin::FP_STRAIGHTEST_ATLAS ? sdp::meshlab::Filter::Atlas
-                                                                  : sdp::meshlab::Filter::Patch;
-}
-}  // namespace
+constexpr auto filterOf = &sdp::meshlab::filterOf<FilterStraightestParamPlugin>;
 
 QString FilterStraightestParamPlugin::filterName(ActionIDType id) const {
   return QString::fromUtf8(sdp::meshlab::nameOf(filterOf(id)));

@@ -16,12 +16,7 @@ QString FilterStraightestParamPlugin::pluginName() const {
   return "FilterStraightestParam";
 }
 
-namespace {
-sdp::meshlab::Filter filterOf(int id) {
-  return id == FilterStraightestParamPlugin::FP_STRAIGHTEST_ATLAS ? sdp::meshlab::Filter::Atlas
-                                                                  : sdp::meshlab::Filter::Patch;
-}
-}  // namespace
+constexpr auto filterOf = &sdp::meshlab::filterOf<FilterStraightestParamPlugin>;
 
 QString FilterStraightestParamPlugin::filterName(FilterIDType id) const {
   return QString::fromUtf8(sdp::meshlab::nameOf(filterOf(id)));

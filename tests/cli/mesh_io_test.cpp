@@ -607,14 +607,20 @@ TEST_F(TempDirTest, ObjRoundTripKeepsPositionsFacesAndTextureCoordinates) {
   EXPECT_NE(mtl.find("map_Kd patch_checker.png\n"), std::string::npos);
 }
 
-// A seam: vertex 4 (the centre) carries another coordinate in face 3 than in the others; the OBJ
-// writes one vt per layout row and `f v/vt` with the row, the PLY each corner's own value.
-TEST_F(TempDirTest, WritersKeepASeamPerCorner) {
-  const TexturedMesh m = makeTexturedMesh();
+// Vertex 4 (the centre) carries another coordinate in face 3 than in the others.
+static sdp::Layout seamLayout(const TexturedMesh& m) {
   sdp::Layout layout = m.layout();
   layout.uv.conservativeResize(6, 2);
   layout.uv.row(5) << 0.75, 0.25;
   layout.face_uv(3, 2) = 5;
+  return layout;
+}
+
+// A seam: vertex 4 (the centre) carries another coordinate in face 3 than in the others; the OBJ
+// writes one vt per layout row and `f v/vt` with the row, the PLY each corner's own value.
+TEST_F(TempDirTest, WritersKeepASeamPerCorner) {
+  const TexturedMesh m = makeTexturedMesh();
+  const sdp::Layout layout = seamLayout(m);
   const fs::path obj = dir_ / "seam.obj", ply = dir_ / "seam.ply";
   sdp::io::writeObjWithTexture(obj.string(), m.V, m.F, layout, "t.png");
   sdp::io::writePly(ply.string(), m.V, m.F, layout);
@@ -644,10 +650,7 @@ TEST_F(TempDirTest, WritersKeepASeamPerCorner) {
 // values (in float, as written), so a tool's atlas can be scored from its file.
 TEST_F(TempDirTest, ReadersGiveBackASeamPerCorner) {
   const TexturedMesh m = makeTexturedMesh();
-  sdp::Layout layout = m.layout();
-  layout.uv.conservativeResize(6, 2);
-  layout.uv.row(5) << 0.75, 0.25;
-  layout.face_uv(3, 2) = 5;
+  const sdp::Layout layout = seamLayout(m);
   const fs::path obj = dir_ / "seam.obj", ply = dir_ / "seam.ply";
   sdp::io::writeObjWithTexture(obj.string(), m.V, m.F, layout, "t.png");
   sdp::io::writePly(ply.string(), m.V, m.F, layout);
