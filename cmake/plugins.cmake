@@ -175,6 +175,8 @@ function(sdp_add_meshlab_build row)
 
   set(libraries ${api_libraries})
   set(allow_undefined "")
+  # Not into this machine's MeshLab unless it is the host's: the README says where each goes.
+  set(install_dir "lib/straightest_param/${folder}")
   if(runs_in STREQUAL "host")
     if(NOT EXISTS "${MESHLAB_HOST_COMMON_LIBRARY}")
       message(WARNING "${MESHLAB_HOST_COMMON_LIBRARY} not found (Debian package meshlab): "
@@ -205,7 +207,6 @@ function(sdp_add_meshlab_build row)
                       "scripts/install-deps.sh, then re-configure.")
       set(allow_undefined ALLOW_UNDEFINED)
     endif()
-    set(install_dir "lib/straightest_param/${folder}")
   else()
     set(common "${SDP_MESHLAB_ROOTS_DIR}/${runs_in}/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so")
     if(EXISTS "${common}")
@@ -215,8 +216,6 @@ function(sdp_add_meshlab_build row)
                       "plugin leaves MeshLab symbols unchecked until MeshLab loads it.")
       set(allow_undefined ALLOW_UNDEFINED)
     endif()
-    # Not into this machine's MeshLab: the README says where each goes on its system.
-    set(install_dir "lib/straightest_param/${folder}")
   endif()
 
   sdp_add_meshlab_plugin(${target} ${version} ${scalar} ${allow_undefined} FOLDER ${folder}
@@ -263,7 +262,8 @@ foreach(row IN LISTS SDP_MESHLAB_BUILD_ROWS)
   sdp_add_meshlab_build("${row}")
 endforeach()
 
-if(SDP_BUILT_MESHLAB_PLUGINS)
+# The example script goes with the host's meshlabserver plugin.
+if(SDP_HOST_PLUGIN_FOLDER)
   install(FILES "${PROJECT_SOURCE_DIR}/resources/straightest_param.mlx"
           DESTINATION share/straightest_param COMPONENT ${SDP_HOST_PLUGIN_FOLDER})
 endif()

@@ -4,11 +4,15 @@
 #   while IFS=$'\t' read -r folder version api scalar runs_in tarball sha256 deb root_extras users; do
 #     ...
 #   done < <(meshlab_builds)
-# and `meshlab_root_suites` the Debian suites whose roots the tests run MeshLab in, once each.
+# `meshlab_root_builds` the rows whose MeshLab runs in a Debian root (runs_in is a suite, not
+# host or pymeshlab), and `meshlab_root_suites` those suites, once each.
 meshlab_builds_table="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/meshlab-builds.tsv"
 meshlab_builds() {
   grep -v -e '^#' -e '^[[:space:]]*$' "$meshlab_builds_table"
 }
+meshlab_root_builds() {
+  meshlab_builds | awk -F'\t' '$5 != "host" && $5 != "pymeshlab"'
+}
 meshlab_root_suites() {
-  meshlab_builds | awk -F'\t' '$5 != "host" && $5 != "pymeshlab" && !seen[$5]++ { print $5 }'
+  meshlab_root_builds | awk -F'\t' '!seen[$5]++ { print $5 }'
 }

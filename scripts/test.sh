@@ -49,7 +49,7 @@ done
 # build three GUI tests (per-user and system plugin folder, the atlas) and, on the bundled meshes
 # alone, four headless cases (more with the extra meshes of SDP_SHARED_DIR).
 if [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
-  root_builds=$(meshlab_builds | awk -F'\t' '$5 != "host" && $5 != "pymeshlab"' | wc -l)
+  root_builds=$(meshlab_root_builds | wc -l)
   registered=$(cd "$build_dir" && ctest -N -L meshlab_roots | awk '/^Total Tests:/ { print $3 }')
   if [[ "${registered:-0}" -lt $((7 * root_builds)) ]]; then
     echo "test.sh: only ${registered:-0} tests in the MeshLab roots registered (want $((7 * root_builds)) or more for $root_builds builds): see the configure warnings" >&2

@@ -31,8 +31,8 @@ if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
 fi
 source "$repo_dir/scripts/meshlab-builds.sh"
 # version  plugin folder  where MeshLab runs  picture name prefix: the GUIs of the table.
-guis=$(meshlab_builds | awk -F'\t' '$5 == "host" { print $2, $1, "prefix", "meshlab" }
-                                     $5 != "host" && $5 != "pymeshlab" { print $2, $1, $5, "meshlab-" $2 }')
+guis=$(meshlab_builds | awk -F'\t' '$5 == "host" { print $2, $1, "prefix", "meshlab" }'
+      meshlab_root_builds | awk -F'\t' '{ print $2, $1, $5, "meshlab-" $2 }')
 cmake --build "$build_dir" --target $(awk '{ print "plugin_" $2 }' <<<"$guis")
 [[ -f "$mesh" ]] || { echo "update-readme-pictures: $mesh missing (set SDP_SHARED_DIR)" >&2; exit 1; }
 for tool in convert identify python3; do
