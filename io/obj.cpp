@@ -16,29 +16,27 @@ struct ForwardReference {
   int line = 0;
 };
 
-// A 1-based or relative (-1: the last defined) OBJ index, 0-based; a forward reference is
-// checked when the file ends (OBJ allows them).
-int objIndex(std::string_view token, size_t defined_count, const char* what,
-             ForwardReference& largest, int line, const std::string& name,
-             std::string_view corner) {
+// A corner's vertex: a 1-based or relative (-1: the last defined) OBJ index, 0-based; a forward
+// reference is checked when the file ends (OBJ allows them).
+int objVertexIndex(std::string_view token, size_t defined_count, ForwardReference& largest,
+                   int line, const std::string& name, std::string_view corner) {
   const long long defined = static_cast<long long>(defined_count);
   long long index = 0;
   if (!parseInteger(token, index)) {
     fail(name, lineAt(line) + "cannot read " + quoted(corner) + " as a face corner");
   }
-  if (index == 0) fail(name, lineAt(line) + what + " index 0 (OBJ counts from 1)");
+  if (index == 0) fail(name, lineAt(line) + "vertex index 0 (OBJ counts from 1)");
   if (index < 0) {
     if (-index > defined) {
       fail(name, lineAt(line) + "relative index " + std::to_string(index) +
-                     " reaches before the first " + what);
+                     " reaches before the first vertex");
     }
     index += defined;
   } else {
     index -= 1;
     if (index > largest.index) largest = {index, line};
   }
-  if (index > INT_MAX)
-    fail(name, lineAt(line) + what + " index " + quoted(token) + " is too large");
+  if (index > INT_MAX) fail(name, lineAt(line) + "vertex index " + quoted(token) + " is too large");
   return static_cast<int>(index);
 }
 
@@ -96,8 +94,8 @@ MeshData parseObj(std::string_view text, const std::string& name) {
         // "v", "v/vt", "v/vt/vn" or "v//vn": the position and the texture coordinate.
         const size_t slash = token.find('/');
         const std::string_view position = token.substr(0, slash);
-        const int vertex = objIndex(position, mesh.vertexCount(), "vertex", largest_vertex,
-                                    lines.line(), name, token);
+        const int vertex =
+            objVertexIndex(position, mesh.vertexCount(), largest_vertex, lines.line(), name, token);
         int texcoord = -1;
         if (slash != std::string_view::npos) {
           const std::string_view rest = token.substr(slash + 1);

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/scan.h"
@@ -258,6 +260,27 @@ std::string numberText(double value) {
   return std::string(buffer, result.ptr);
 }
 
+// The last scalar property of `element` called `property_name`, or -1.
+int scalarProperty(const PlyElement& element, const std::string& property_name) {
+  int found = -1;
+  for (int p = 0; p < static_cast<int>(element.properties.size()); ++p) {
+    const PlyProperty& property = element.properties[p];
+    if (!property.is_list && property.name == property_name) found = p;
+  }
+  return found;
+}
+
+// The first list property of `element` with one of `names`, or -1.
+int listProperty(const PlyElement& element, std::initializer_list<const char*> names) {
+  for (int p = 0; p < static_cast<int>(element.properties.size()); ++p) {
+    const PlyProperty& property = element.properties[p];
+    if (!property.is_list) continue;
+    for (const char* n : names)
+      if (property.name == n) return p;
+  }
+  return -1;
+}
+
 // One face record's polygon, once all its properties are read (texcoord may precede the
 // indices): its corners, each with its own texture coordinate row, or the vertex's.
 void addPlyFace(MeshBuilder& mesh, const std::vector<int>& vertices, const std::vector<double>& uvs,
@@ -295,55 +318,31 @@ MeshData parsePly(std::string_view text, const std::string& name) {
   if (vertex_element == nullptr) fail(name, "header declares no vertex element");
   if (face_element == nullptr || face_element->count == 0) fail(name, "contains no faces");
 
-  int axis_property[3] = {-1, -1, -1};
-  for (int p = 0; p < static_cast<int>(vertex_element->properties.size()); ++p) {
-    const PlyProperty& property = vertex_element->properties[p];
-    for (int axis = 0; axis < 3; ++axis) {
-      if (property.name == std::string(1, static_cast<char>('x' + axis)) && !property.is_list) {
-        axis_property[axis] = p;
-      }
-    }
-  }
+  int axis_property[3];
   for (int axis = 0; axis < 3; ++axis) {
+    axis_property[axis] =
+        scalarProperty(*vertex_element, std::string(1, static_cast<char>('x' + axis)));
     if (axis_property[axis] < 0) {
       fail(name,
            std::string("vertex element has no scalar property ") + static_cast<char>('x' + axis));
     }
   }
-  int index_property = -1;
-  for (int p = 0; p < static_cast<int>(face_element->properties.size()); ++p) {
-    const PlyProperty& property = face_element->properties[p];
-    if (property.is_list &&
-        (property.name == "vertex_indices" || property.name == "vertex_index")) {
-      index_property = p;
-      break;
-    }
-  }
+  const int index_property = listProperty(*face_element, {"vertex_indices", "vertex_index"});
   if (index_property < 0) fail(name, "face element has no vertex_indices list");
   // Texture coordinates: per corner in a face list `texcoord` (u0 v0 u1 v1 ..., as MeshLab
   // writes its wedge texture coordinates), else per vertex in scalar pairs (s t, u v,
   // texture_u texture_v).
-  int texcoord_property = -1;
-  for (int p = 0; p < static_cast<int>(face_element->properties.size()); ++p) {
-    const PlyProperty& property = face_element->properties[p];
-    if (property.is_list && property.name == "texcoord") texcoord_property = p;
-  }
+  const int texcoord_property = listProperty(*face_element, {"texcoord"});
   int vertex_uv_property[2] = {-1, -1};
-  if (texcoord_property < 0) {
-    for (const auto& [u_name, v_name] :
-         {std::pair<const char*, const char*>{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}}) {
-      int found[2] = {-1, -1};
-      for (int p = 0; p < static_cast<int>(vertex_element->properties.size()); ++p) {
-        const PlyProperty& property = vertex_element->properties[p];
-        if (property.is_list) continue;
-        if (property.name == u_name) found[0] = p;
-        if (property.name == v_name) found[1] = p;
-      }
-      if (found[0] >= 0 && found[1] >= 0) {
-        vertex_uv_property[0] = found[0];
-        vertex_uv_property[1] = found[1];
-        break;
-      }
+  for (const auto& [u_name, v_name] :
+       {std::pair<const char*, const char*>{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}}) {
+    if (texcoord_property >= 0) break;  // per-corner coordinates win over per-vertex ones
+    const int u = scalarProperty(*vertex_element, u_name),
+              v = scalarProperty(*vertex_element, v_name);
+    if (u >= 0 && v >= 0) {
+      vertex_uv_property[0] = u;
+      vertex_uv_property[1] = v;
+      break;
     }
   }
   const bool vertex_uvs = vertex_uv_property[0] >= 0;
@@ -395,7 +394,6 @@ MeshData parsePly(std::string_view text, const std::string& name) {
                          std::to_string(r) + " is not a non-negative integer");
         }
         const auto item_count = static_cast<unsigned long long>(length);
-        const std::string face = "face " + std::to_string(r);
         if (is_face && p == texcoord_property) {
           for (unsigned long long c = 0; c < item_count; ++c) {
             if (!source.read(property.type, value)) truncated();
@@ -407,6 +405,7 @@ MeshData parsePly(std::string_view text, const std::string& name) {
           if (!source.skip(property.type, item_count)) truncated();
           continue;
         }
+        const std::string face = "face " + std::to_string(r);
         if (item_count < 3) {
           fail(name, face + " has " + std::to_string(item_count) + " vertices, at least 3 needed");
         }
