@@ -6,10 +6,11 @@
 namespace sdp {
 namespace {
 
+// The norms of the K interleaved columns of v[0 .. size).
 template <int K>
-void columnNorms(const std::vector<double>& v, double* norm) {
+void columnNorms(const double* v, size_t size, double* norm) {
   double s[K] = {};
-  const size_t n = v.size() / K;
+  const size_t n = size / K;
   for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < K; ++c) s[c] += v[i * K + c] * v[i * K + c];
   for (int c = 0; c < K; ++c) norm[c] = std::sqrt(s[c]);
@@ -44,8 +45,7 @@ class BiCgStab {
         hat_(N_),
         t_(N_),
         work_(mg.makeWorkspace(K)) {
-    std::vector<double> bv(b, b + N_);
-    columnNorms<K>(bv, bnorm_);
+    columnNorms<K>(b, N_, bnorm_);
   }
 
   KrylovOutcome run() {
@@ -71,7 +71,7 @@ class BiCgStab {
   double trueResidual() {
     multiply<K>(A_, x_, r_.data());
     for (size_t i = 0; i < N_; ++i) r_[i] = b_[i] - r_[i];
-    columnNorms<K>(r_, rnorm_);
+    columnNorms<K>(r_.data(), N_, rnorm_);
     double worst = 0;
     for (int c = 0; c < K; ++c)
       worst = std::max(worst, bnorm_[c] > 0 ? rnorm_[c] / bnorm_[c] : 0.0);
