@@ -45,11 +45,11 @@ int main(int argc, char** argv) {
     sdp::Positions V(kept, 3);
     for (int v = 0; v < vertex_count; ++v) V.row(welded[v]) = m.V.row(v);
     // Faces with a corner the file gives no texture coordinate are left out, and counted.
+    // (A file without any has an empty texcoords layout: every face is left out.)
     std::vector<int> textured;
-    for (int f = 0; f < m.F.rows(); ++f)
-      if (m.texcoords.face_uv.rows() == m.F.rows() &&
-          (m.texcoords.face_uv.row(f).array() >= 0).all())
-        textured.push_back(f);
+    const bool has_texcoords = m.texcoords.face_uv.rows() == m.F.rows();
+    for (int f = 0; has_texcoords && f < m.F.rows(); ++f)
+      if ((m.texcoords.face_uv.row(f).array() >= 0).all()) textured.push_back(f);
     const int faces = static_cast<int>(textured.size());
     const int faces_without_uv = static_cast<int>(m.F.rows()) - faces;
     sdp::Triangles F(faces, 3);
