@@ -3,14 +3,13 @@
 #include "checked_descent.h"
 #include "geometry.h"
 #include "linear/laplacian_multigrid.h"
+#include "linear/solve_path.h"
 #include "work.h"
 
 #include <Eigen/Geometry>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <memory>
 #include <new>
 
 namespace sdp {
@@ -89,46 +88,47 @@ FlatFace flatten(const Patch& patch, int f) {
 }
 
 // Solves L x = b for the global step, L fixed across steps (symmetric, positive weights, one
-// vertex pinned): BiCGSTAB with the project's multigrid from the previous positions (a step moves
-// them a little); a Cholesky factor for small systems or if the iteration does not converge.
+// vertex pinned): BiCGSTAB with the project's multigrid from the previous positions
+// (a step moves them a little); an LDLT factor for small systems or when the iteration does not
+// converge (linear/solve_path.h).
 class GlobalSolver {
  public:
   // Built here from its entries: a copied Eigen::SparseMatrix leaks its index array when the
   // copy's second allocation fails (the allocation-failure tests found it).
-  GlobalSolver(int n, const std::vector<Eigen::Triplet<double>>& entries) {
+  GlobalSolver(int n, const std::vector<Eigen::Triplet<double>>& entries)
+      : path_(n, DirectUpTo::kArapGlobalStep) {
     L_.resize(n, n);
     L_.setFromTriplets(entries.begin(), entries.end());
-    if (n < 1000) return;  // LU territory in solve.h too
-    iterative_ = multigrid_.build(L_);
+    if (!path_.iterative()) return;
+    if (!multigrid_.build(L_)) path_.fallBack();
     spent_work_ = multigrid_.spentWork();
   }
 
   bool solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x) {
-    if (iterative_) {
+    if (path_.iterative()) {
       const double before = multigrid_.spentWork();
       const bool solved = multigrid_.solve(b, x, 1e-8, 100);
       spent_work_ += multigrid_.spentWork() - before;
       if (solved) return true;
-      iterative_ = false;
+      path_.fallBack();
       multigrid_ = LaplacianMultigrid();
     }
-    if (!cholesky_) {
-      cholesky_ = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(L_);
-      if (cholesky_->info() != Eigen::Success) return false;
-      spent_work_ += factorizationWork(cholesky_->matrixL().nestedExpression());
+    if (!factor_.factored()) {
+      if (!factor_.factorize(L_)) return false;
+      spent_work_ += factor_.lastWork();
     }
-    x = cholesky_->solve(b);
-    spent_work_ += 2 * substitutionWork(cholesky_->matrixL().nestedExpression());
-    return cholesky_->info() == Eigen::Success && x.allFinite();
+    const bool solved = factor_.solve(b, x);
+    spent_work_ += factor_.lastWork();
+    return solved;
   }
   // Work (work.h) of the setup and every solve so far.
   double spentWork() const { return spent_work_; }
 
  private:
   Eigen::SparseMatrix<double> L_;
+  SolvePath path_;
   LaplacianMultigrid multigrid_;
-  bool iterative_ = false;
-  std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> cholesky_;
+  SymmetricFactor factor_;
   double spent_work_ = 0;
 };
 

@@ -37,35 +37,25 @@ InteriorSolver::InteriorSolver(const Patch& patch, const SolverSettings& setting
           visit(patch.ring_vertex[k]);
       });
   for (int v : interior_vertex_) unknown_[v] = unknowns_++;
+  path_ = SolvePath(unknowns_, settings_.direct_up_to, settings_.method);
 }
 
 void InteriorSolver::assemble(const std::vector<double>& weights, const LocalUVs& uv, SplitCsr& A,
                               RightHandSides& rhs) const {
   const Patch& p = patch_;
-  A.size = unknowns_;
-  A.diagonal.assign(unknowns_, 1.0);
-  for (CsrRows* part : {&A.lower, &A.upper}) {
-    part->begin.assign(unknowns_ + 1, 0);
-    part->column.clear();
-    part->value.clear();
-    part->column.reserve(p.ring_vertex.size() / 2);
-    part->value.reserve(p.ring_vertex.size() / 2);
-  }
+  A.startRows(unknowns_, 1.0, p.ring_vertex.size());
   rhs = RightHandSides::Zero(unknowns_, 2);
   for (int row = 0; row < unknowns_; ++row) {
     const int v = interior_vertex_[row];
     for (int k = p.ring_begin[v]; k < p.ring_begin[v + 1]; ++k) {
       const int j = unknown_[p.ring_vertex[k]];
       if (j >= 0) {
-        CsrRows& part = j < row ? A.lower : A.upper;
-        part.column.push_back(j);
-        part.value.push_back(-weights[k]);
+        A.add(row, j, -weights[k]);
       } else {
         rhs.row(row) += weights[k] * uv[p.ring_vertex[k]].transpose();
       }
     }
-    A.lower.begin[row + 1] = static_cast<int>(A.lower.column.size());
-    A.upper.begin[row + 1] = static_cast<int>(A.upper.column.size());
+    A.endRow(row);
   }
 }
 
@@ -82,17 +72,13 @@ LocalUVs InteriorSolver::solve(const std::vector<double>& weights, const Polygon
   assemble(weights, uv, A, rhs);
   const double assembly_work = 2.0 * p.ring_vertex.size() * WorkCosts::kNonzero;
   stats_.work = assembly_work;
-  const bool iterative =
-      !iterative_failed_ &&
-      (settings_.method == SolverMethod::Multigrid ||
-       (settings_.method == SolverMethod::Automatic && unknowns_ > settings_.direct_up_to));
-  if (iterative) {
+  if (path_.iterative()) {
     stats_.multigrid = true;
     if (!solveIteratively(std::move(A), rhs, x)) {
       // LU from now on: a system this solver could not converge on will not get easier with the
       // next weights. The hierarchy goes first, to make room for the factors.
       stats_.fell_back = true;
-      iterative_failed_ = true;
+      path_.fallBack();
       multigrid_ = Multigrid();
       previous_.resize(0, 2);
       assemble(weights, uv, A, rhs);

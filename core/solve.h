@@ -18,19 +18,17 @@
 
 #include "boundary.h"
 #include "linear/multigrid.h"
+#include "linear/solve_path.h"
 #include "patch.h"
 
 namespace sdp {
 
 using LocalUVs = std::vector<Eigen::Vector2d>;  // one per patch vertex
 
-enum class SolverMethod { Automatic, Direct, Multigrid };
-
 struct SolverSettings {
   SolverMethod method = SolverMethod::Automatic;
-  // Automatic: LU up to this many unknowns (measured crossover about 700: 841 unknowns take 6 ms
-  // by LU and 2 ms by multigrid, 361 take 2 and 9 ms).
-  int direct_up_to = 1000;
+  // Automatic: LU up to this many unknowns (linear/solve_path.h).
+  int direct_up_to = DirectUpTo::kInteriorSolve;
   // Relative residual ||b - A x|| / ||b|| of u and of v. 1e-8 gives UVs within 5e-8 of LU at
   // 414k vertices (coordinates of size 1) in 6 instead of 8 iterations (1e-10: 1.4e-9). The
   // pipeline checks every map for flipped faces anyway; a map that fails the check is solved
@@ -90,7 +88,7 @@ class InteriorSolver {
   int unknowns_ = 0;
   bool analyzed_ = false;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu_;
-  bool iterative_failed_ = false;
+  SolvePath path_;  // multigrid or LU, and the fall back from one to the other
   Multigrid multigrid_;
   RightHandSides previous_;  // last iterative solution: the next call's starting guess
 };

@@ -1,7 +1,6 @@
 #include "stretch_newton.h"
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include "geometry.h"
 #include "linear/block_multigrid.h"
 #include "linear/krylov.h"
+#include "linear/solve_path.h"
 #include "parallel.h"
 #include "work.h"
 
@@ -381,7 +381,7 @@ class AssembledNewtonSystem {
 }  // namespace
 
 bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings) {
-  return vertices > settings.direct_up_to;
+  return SolvePath(vertices, settings.direct_up_to).iterative();
 }
 
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,
@@ -418,8 +418,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     budget.charge(2.0 * faces * WorkCosts::kEnergyFace);  // the frames and the first energy
     if (!rescale(current, energy)) return uv;
 
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor;
-    bool analyzed = false;
+    SymmetricFactor factor;
     std::vector<Eigen::Triplet<double>> entries;
     Eigen::SparseMatrix<double> H;
     std::optional<AssembledNewtonSystem> matrix_free;
@@ -447,16 +446,11 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
       H.setFromTriplets(entries.begin(), entries.end());
       // The per-face terms, then 36 entries per face summed into the matrix.
       descent->addWork(faces * (WorkCosts::kNewtonHessianFace + 72 * WorkCosts::kNonzero));
-      if (!analyzed) {
-        factor.analyzePattern(H);
-        analyzed = true;
-      }
-      factor.factorize(H);
-      if (factor.info() != Eigen::Success) return false;
-      direction = factor.solve(-gradient);
-      descent->addWork(factorizationWork(factor.matrixL().nestedExpression()) +
-                       substitutionWork(factor.matrixL().nestedExpression()));
-      return factor.info() == Eigen::Success && direction.allFinite();
+      if (!factor.factorize(H)) return false;
+      const double factor_work = factor.lastWork();
+      const bool solved = factor.solve(-gradient, direction);
+      descent->addWork(factor_work + factor.lastWork());
+      return solved;
     };
 
     for (int it = 0; it < steps; ++it) {

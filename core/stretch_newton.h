@@ -20,6 +20,7 @@
 
 #include <vector>
 
+#include "linear/solve_path.h"
 #include "metrics.h"
 #include "options.h"
 #include "patch.h"
@@ -30,8 +31,8 @@
 namespace sdp {
 
 struct StretchNewtonSettings {
-  // The sparse factor up to this many vertices, conjugate gradients above.
-  int direct_up_to = 50000;
+  // The sparse factor up to this many vertices, conjugate gradients above (linear/solve_path.h).
+  int direct_up_to = DirectUpTo::kNewtonStep;
   // Relative residual of the conjugate gradients: a truncated Newton step (any iterate
   // descends; the line search makes it safe).
   double cg_tolerance = 1e-2;

@@ -34,24 +34,15 @@ bool LaplacianMultigrid::scale(const Eigen::SparseMatrix<double>& L, SplitCsr& A
       if (it.row() == i) root_diagonal_[i] = std::sqrt(it.value());
     if (!(root_diagonal_[i] > 0)) return false;
   }
-  A.size = n;
-  A.diagonal.assign(n, 1.0);
-  A.lower = CsrRows{};
-  A.upper = CsrRows{};
-  A.lower.begin.assign(n + 1, 0);
-  A.upper.begin.assign(n + 1, 0);
+  A.startRows(n, 1.0);
   for (int r = 0; r < n; ++r) {
     const int i = order_[r];
     // Columns of the symmetric L serve as its rows.
     for (Eigen::SparseMatrix<double>::InnerIterator it(L, i); it; ++it) {
       if (it.row() == i) continue;
-      const int c = new_of[it.row()];
-      CsrRows& part = c < r ? A.lower : A.upper;
-      part.column.push_back(c);
-      part.value.push_back(it.value() / (root_diagonal_[i] * root_diagonal_[it.row()]));
+      A.add(r, new_of[it.row()], it.value() / (root_diagonal_[i] * root_diagonal_[it.row()]));
     }
-    A.lower.begin[r + 1] = static_cast<int>(A.lower.column.size());
-    A.upper.begin[r + 1] = static_cast<int>(A.upper.column.size());
+    A.endRow(r);
   }
   return true;
 }

@@ -276,25 +276,13 @@ SplitCsr galerkin(const SplitCsr& A, const Csr& P) {
     }
   });
   SplitCsr Ac;
-  Ac.size = nc;
-  Ac.diagonal.assign(nc, 0.0);
-  Ac.lower.begin.assign(nc + 1, 0);
-  Ac.upper.begin.assign(nc + 1, 0);
+  Ac.startRows(nc, 0.0);
   int row = 0;
   for (const Csr& part : chunk)
     for (size_t r = 0; r + 1 < part.begin.size(); ++r, ++row) {
-      for (int k = part.begin[r]; k < part.begin[r + 1]; ++k) {
-        const int c = part.column[k];
-        if (c == row) {
-          Ac.diagonal[row] = part.value[k];
-        } else {
-          CsrRows& side = c < row ? Ac.lower : Ac.upper;
-          side.column.push_back(c);
-          side.value.push_back(part.value[k]);
-        }
-      }
-      Ac.lower.begin[row + 1] = static_cast<int>(Ac.lower.column.size());
-      Ac.upper.begin[row + 1] = static_cast<int>(Ac.upper.column.size());
+      for (int k = part.begin[r]; k < part.begin[r + 1]; ++k)
+        Ac.add(row, part.column[k], part.value[k]);
+      Ac.endRow(row);
     }
   return Ac;
 }

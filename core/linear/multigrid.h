@@ -12,42 +12,9 @@
 #include <Eigen/LU>
 #include <vector>
 
+#include "csr.h"
+
 namespace sdp {
-
-// Rows of a sparse matrix in CSR form.
-struct CsrRows {
-  std::vector<int> begin;  // rows + 1 starts into column/value
-  std::vector<int> column;
-  std::vector<double> value;
-};
-
-// Square sparse matrix kept as diagonal + strictly lower + strictly upper parts. The split lets
-// a Gauss-Seidel sweep from zero read only the lower part and the residual after it only the
-// upper part: one pass over the matrix instead of two in every cycle.
-struct SplitCsr {
-  int size = 0;
-  std::vector<double> diagonal;
-  CsrRows lower, upper;
-
-  long long nonZeros() const {
-    return static_cast<long long>(lower.column.size() + upper.column.size()) + size;
-  }
-  bool sameValues(const SplitCsr& other) const {
-    return diagonal == other.diagonal && lower.value == other.lower.value &&
-           upper.value == other.upper.value;
-  }
-  template <class F>
-  void forEachOffDiagonal(int i, F&& f) const {
-    for (int k = lower.begin[i]; k < lower.begin[i + 1]; ++k) f(lower.column[k], lower.value[k]);
-    for (int k = upper.begin[i]; k < upper.begin[i + 1]; ++k) f(upper.column[k], upper.value[k]);
-  }
-};
-
-// Rectangular sparse matrix (prolongation and restriction).
-struct Csr : CsrRows {
-  int rows = 0, cols = 0;
-};
-Csr transposed(const Csr& M);
 
 struct MultigridSettings {
   double strength = 0.08;   // a_ij is strong when a_ij^2 > strength^2 a_ii a_jj (halved per level)
@@ -117,15 +84,5 @@ class Multigrid {
   std::vector<Level> levels_;
   Eigen::PartialPivLU<Eigen::MatrixXd> coarsest_lu_;
 };
-
-// y = A x on K interleaved columns.
-template <int K>
-void multiply(const SplitCsr& A, const double* x, double* y);
-
-// y = A x with the column dots (y, w) and (y, y) taken on the way (core/linear/krylov.h's
-// BiCGSTAB: the vector updates are memory-bound passes, and each fused dot saves one).
-template <int K>
-void multiplyWithDots(const SplitCsr& A, const double* x, double* y, const double* w, double* yw,
-                      double* yy);
 
 }  // namespace sdp
