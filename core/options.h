@@ -23,7 +23,8 @@ enum class UVStorage {
 // One table per choice the user makes, in enum order (checked below): the value, its command
 // line and report name, and the label every front end shows (MeshLab's dialog, .mlx and
 // pymeshlab values; docs/method.md §6). Names, labels, counts and parsing all come from these
-// rows: adding a choice is one row here and its case where the choice is used.
+// rows: adding a choice is one row here and its case where the choice is used; adding a weight
+// scheme is its row (with its function) and the function (weights.cpp).
 template <class Enum>
 struct EnumRow {
   Enum id;
@@ -31,12 +32,37 @@ struct EnumRow {
   const char* label;
 };
 
-inline constexpr std::array<EnumRow<WeightScheme>, 5> kWeightSchemes = {{
-    {WeightScheme::Straightest, "straightest", "Straightest distances (cutting planes)"},
-    {WeightScheme::Ltd, "ltd", "LTD straightest geodesics"},
-    {WeightScheme::Floater, "floater", "Floater shape-preserving"},
-    {WeightScheme::MeanValue, "mean_value", "Mean value"},
-    {WeightScheme::Uniform, "uniform", "Uniform"},
+struct Ring;  // straightest.h
+// A weight scheme: the non-negative weights of one interior vertex for its ring neighbours
+// (w: ring.size() entries, zero on entry), normalized to sum 1 afterwards (weights.h); false
+// when the ring is degenerate for the scheme (the vertex then gets uniform weights, counted).
+// `to_ltd` counts neighbours that fell back to the LTD direction.
+using RingWeightsFunction = bool (*)(const Ring& ring, double* w, int& to_ltd);
+namespace weight_schemes {  // weights.cpp
+bool straightest(const Ring& ring, double* w, int& to_ltd);
+bool ltd(const Ring& ring, double* w, int& to_ltd);
+bool floater(const Ring& ring, double* w, int& to_ltd);
+bool meanValue(const Ring& ring, double* w, int& to_ltd);
+bool uniform(const Ring& ring, double* w, int& to_ltd);
+}  // namespace weight_schemes
+
+struct WeightSchemeRow {
+  WeightScheme id;
+  const char* name;
+  const char* label;
+  RingWeightsFunction weights;
+  bool uses_angles;       // needs the ring's angles (prepareRing) first
+  double work_per_entry;  // in WorkCosts::kWeightEntry: plane walks 1, closed formulas 0.25
+};
+
+inline constexpr std::array<WeightSchemeRow, 5> kWeightSchemes = {{
+    {WeightScheme::Straightest, "straightest", "Straightest distances (cutting planes)",
+     weight_schemes::straightest, true, 1.0},
+    {WeightScheme::Ltd, "ltd", "LTD straightest geodesics", weight_schemes::ltd, true, 1.0},
+    {WeightScheme::Floater, "floater", "Floater shape-preserving", weight_schemes::floater, true,
+     0.25},
+    {WeightScheme::MeanValue, "mean_value", "Mean value", weight_schemes::meanValue, true, 0.25},
+    {WeightScheme::Uniform, "uniform", "Uniform", weight_schemes::uniform, false, 0.25},
 }};
 inline constexpr std::array<EnumRow<BoundaryShape>, 3> kBoundaryShapes = {{
     {BoundaryShape::Measured, "measured", "Measured (straightest distances)"},
@@ -48,8 +74,8 @@ inline constexpr std::array<EnumRow<SourceRule>, 2> kSourceRules = {{
     {SourceRule::NearestBoundaryCentroid, "centroid", "Nearest the boundary's centroid"},
 }};
 
-template <class Enum, size_t N>
-constexpr bool inEnumOrder(const std::array<EnumRow<Enum>, N>& table) {
+template <class Row, size_t N>
+constexpr bool inEnumOrder(const std::array<Row, N>& table) {
   for (size_t i = 0; i < N; ++i)
     if (static_cast<size_t>(table[i].id) != i) return false;
   return true;
@@ -61,13 +87,13 @@ constexpr int kWeightSchemeCount = static_cast<int>(kWeightSchemes.size());
 constexpr int kBoundaryShapeCount = static_cast<int>(kBoundaryShapes.size());
 
 // The row's name of `id`, and the value whose name is `name`.
-template <class Enum, size_t N>
-const char* nameIn(const std::array<EnumRow<Enum>, N>& table, Enum id) {
+template <class Row, size_t N, class Enum>
+const char* nameIn(const std::array<Row, N>& table, Enum id) {
   return table[static_cast<size_t>(id)].name;
 }
-template <class Enum, size_t N>
-std::optional<Enum> parseIn(const std::array<EnumRow<Enum>, N>& table, const std::string& name) {
-  for (const EnumRow<Enum>& row : table)
+template <class Row, size_t N>
+std::optional<decltype(Row::id)> parseIn(const std::array<Row, N>& table, const std::string& name) {
+  for (const Row& row : table)
     if (name == row.name) return row.id;
   return std::nullopt;
 }

@@ -201,12 +201,15 @@ class Pipeline {
   // weights, then joins them: the two do not depend on each other. Their stage times overlap.
   void weightsAndBoundary() {
     clock_.begin(Stage::Weights);
-    weights_ = computeWeights(patch_, options_.weights, weight_counts_, [this] {
+    WeightCounts counts;
+    weights_ = computeWeights(patch_, options_.weights, counts, [this] {
       const auto start = Clock::now();
       boundaryPolicy();
       clock_.add(Stage::Boundary, std::chrono::duration<double>(Clock::now() - start).count());
     });
     clock_.end();
+    report().fallbacks.add(Fallback::StraightestToLtd, counts.straightest_to_ltd);
+    report().fallbacks.add(Fallback::DegenerateRing, counts.degenerate_rings);
     // The boundary runs alongside the weights on another core: only the weights count.
     linearWork(Stage::Weights, weightsWork());
   }
@@ -228,7 +231,7 @@ class Pipeline {
       report().warnings.push_back(
           std::to_string(metrics_.flipped_faces) + " faces folded with " + report().weights +
           " weights (near-degenerate triangles); used uniform weights instead");
-      ++report().boundary_fallbacks;
+      report().fallbacks.add(Fallback::WholeBoundary);
       WeightCounts ignored;
       weights_ = computeWeights(patch_, WeightScheme::Uniform, ignored);
       linearWork(Stage::Weights, weightsWork());
@@ -264,27 +267,16 @@ class Pipeline {
     report().refinement_work = linear_work_ > 0 ? refine_meter_.spent / linear_work_ : 0;
   }
 
+  // The per-vertex fallbacks' warnings, one per kind that happened, in the rows' order (the
+  // whole-boundary ones wrote their reasons as they happened).
   void countFallbacks() {
     Report& r = report();
     r.boundary_used = boundaryShapeName(shape_);
     r.source_vertex = shape_ == BoundaryShape::Measured ? patch_.input_vertex[source_] : -1;
-    r.straightest_to_ltd = weight_counts_.straightest_to_ltd;
-    r.degenerate_rings = weight_counts_.degenerate_rings;
-    r.walk_fallbacks = measured_counts_.walk_failures + measured_counts_.walk_detours;
     r.ears_unfolded = shape_ == BoundaryShape::Measured ? measured_counts_.ears_unfolded : 0;
-    r.fallbacks =
-        r.straightest_to_ltd + r.degenerate_rings + r.walk_fallbacks + r.boundary_fallbacks;
-    if (r.straightest_to_ltd > 0)
-      r.warnings.push_back(std::to_string(r.straightest_to_ltd) +
-                           " neighbours used the LTD direction (their cutting plane crossed no "
-                           "far-side edge)");
-    if (r.degenerate_rings > 0)
-      r.warnings.push_back(std::to_string(r.degenerate_rings) +
-                           " vertices with a degenerate 1-ring used uniform weights");
-    if (r.walk_fallbacks > 0)
-      r.warnings.push_back(std::to_string(r.walk_fallbacks) +
-                           " boundary distances used the edge-graph distance (plane walk failed "
-                           "or wandered)");
+    for (const FallbackKind& kind : kFallbackKinds)
+      if (kind.warning && r.fallbacks[kind.id] > 0)
+        r.warnings.push_back(std::to_string(r.fallbacks[kind.id]) + kind.warning);
   }
 
   // The map at its natural scale (3D units), in double, as a layout in the input's numbering
@@ -308,7 +300,7 @@ class Pipeline {
 
   void fallBackToCircle(const std::string& why) {
     report().warnings.push_back(why + "; used the circle boundary instead");
-    ++report().boundary_fallbacks;
+    report().fallbacks.add(Fallback::WholeBoundary);
     shape_ = BoundaryShape::Circle;
   }
 
@@ -322,6 +314,8 @@ class Pipeline {
         fallBackToCircle("the patch has no interior vertex to measure the boundary from");
       } else {
         boundary_ = measuredBoundary(patch_, source_, measured_counts_);
+        report().fallbacks.add(Fallback::DistanceWalk,
+                               measured_counts_.walk_failures + measured_counts_.walk_detours);
         if (boundary_.empty()) {
           fallBackToCircle("the measured boundary could not be made convex");
         } else if (const double ears = earStretch(patch_, boundary_),
@@ -381,10 +375,8 @@ class Pipeline {
   // The work of the weights over every ring entry (straightest and LTD walk planes; the
   // others are closed formulas).
   double weightsWork() const {
-    const bool walks =
-        options_.weights == WeightScheme::Straightest || options_.weights == WeightScheme::Ltd;
     return static_cast<double>(patch_.ring_vertex.size()) * WorkCosts::kWeightEntry *
-           (walks ? 1.0 : 0.25);
+           kWeightSchemes[static_cast<size_t>(options_.weights)].work_per_entry;
   }
   double metricsWork() const { return WorkCosts::kMetricsFace * patch_.real_face_count; }
   void linearWork(Stage stage, double work) {
@@ -490,7 +482,6 @@ class Pipeline {
   int source_ = -1;
   Polygon boundary_;
   MeasuredCounts measured_counts_;
-  WeightCounts weight_counts_;
   std::vector<double> weights_;
   std::optional<InteriorSolver> solver_;
   LocalUVs uv_;

@@ -15,6 +15,17 @@ using json::jsonNumber;
 using json::jsonObject;
 using json::jsonString;
 
+// `fallback_counts`'s meaning, from kFallbackKinds.
+const char* fallbackCountsMeaning() {
+  static const std::string text = [] {
+    std::string t;
+    for (const FallbackKind& kind : kFallbackKinds)
+      t += (t.empty() ? "`" : ", `") + std::string(kind.key) + "` (" + kind.meaning + ")";
+    return t;
+  }();
+  return text.c_str();
+}
+
 ReportField summary(const char* key, const char* meaning, const char* log_label,
                     const char* log_format, bool integer, double (*number)(const Report&)) {
   ReportField f{key, meaning};
@@ -66,7 +77,7 @@ const std::vector<ReportField>& reportFields() {
       summary("fallbacks",
               "per-neighbour, per-ring and per-walk fallbacks plus whole-boundary ones, summed "
               "(`fallback_counts` breaks it down)",
-              "fallbacks", "%.0f", true, [](R r) { return double(r.fallbacks); }),
+              "fallbacks", "%.0f", true, [](R r) { return double(r.fallbacks.total()); }),
       summary("source_vertex",
               "S of the measured boundary (a vertex index of the input mesh), -1 for circle and "
               "square",
@@ -106,18 +117,12 @@ const std::vector<ReportField>& reportFields() {
            "work the refinement did, as a multiple of the linear map's (counted from sizes and "
            "iterations, not timed: the same on every run)",
            [](R r) { return r.refinement_work; }),
-      other("fallback_counts",
-            "`straightest_to_ltd` (neighbours whose cutting plane crossed no far-side edge, given "
-            "the LTD direction), `degenerate_rings` (vertices with a zero-area face or zero-length "
-            "edge at them, given uniform weights), `walk_fallbacks` (boundary distances taken from "
-            "edge paths because the plane walk missed its vertex or wandered more than 1.5x the "
-            "edge-path length), `boundary_fallbacks` (whole-boundary fallbacks, e.g. measured to "
-            "circle)",
+      other("fallback_counts", fallbackCountsMeaning(),
             [](R r) {
-              return jsonObject({{"straightest_to_ltd", jsonInt(r.straightest_to_ltd)},
-                                 {"degenerate_rings", jsonInt(r.degenerate_rings)},
-                                 {"walk_fallbacks", jsonInt(r.walk_fallbacks)},
-                                 {"boundary_fallbacks", jsonInt(r.boundary_fallbacks)}});
+              std::vector<std::pair<std::string, std::string>> counts;
+              for (const FallbackKind& kind : kFallbackKinds)
+                counts.emplace_back(kind.key, jsonInt(r.fallbacks[kind.id]));
+              return jsonObject(counts);
             }),
       integer("unreferenced_vertices", "input vertices no face uses (left out of the map)",
               [](R r) { return double(r.unreferenced_vertices); }),

@@ -1,11 +1,51 @@
 // What the user gets back besides the UVs: docs/method.md §5 metrics and §6 report keys.
 #pragma once
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace sdp {
+
+// The pipeline's fallbacks, one row per kind: its key in the report's `fallback_counts`, what it
+// means, the words of MeshLab's log line and, for the kinds counted per vertex, the warning after
+// the count (a whole-boundary fallback writes its own reason where it happens).
+enum class Fallback { StraightestToLtd, DegenerateRing, DistanceWalk, WholeBoundary };
+struct FallbackKind {
+  Fallback id;
+  const char* key;
+  const char* meaning;
+  const char* log_label;
+  const char* warning;
+};
+inline constexpr std::array<FallbackKind, 4> kFallbackKinds = {{
+    {Fallback::StraightestToLtd, "straightest_to_ltd",
+     "neighbours whose cutting plane crossed no far-side edge, given the LTD direction",
+     "straightest->ltd",
+     " neighbours used the LTD direction (their cutting plane crossed no far-side edge)"},
+    {Fallback::DegenerateRing, "degenerate_rings",
+     "vertices with a zero-area face or zero-length edge at them, given uniform weights",
+     "degenerate rings", " vertices with a degenerate 1-ring used uniform weights"},
+    {Fallback::DistanceWalk, "walk_fallbacks",
+     "boundary distances taken from edge paths because the plane walk missed its vertex or "
+     "wandered more than 1.5x the edge-path length",
+     "walks", " boundary distances used the edge-graph distance (plane walk failed or wandered)"},
+    {Fallback::WholeBoundary, "boundary_fallbacks",
+     "whole-boundary fallbacks, e.g. measured to circle, or uniform weights after a fold",
+     "boundary", nullptr},
+}};
+
+struct FallbackRecord {
+  std::array<int, kFallbackKinds.size()> counts{};
+  void add(Fallback kind, int count = 1) { counts[static_cast<size_t>(kind)] += count; }
+  int operator[](Fallback kind) const { return counts[static_cast<size_t>(kind)]; }
+  int total() const {
+    int sum = 0;
+    for (int c : counts) sum += c;
+    return sum;
+  }
+};
 
 struct Report {
   int vertices = 0;  // vertices referenced by the patch
@@ -27,13 +67,9 @@ struct Report {
   std::string refinement_stop = "not run";
   // Work (work.h) the refinement spent, as a multiple of the linear map's.
   double refinement_work = 0;
-  // Fallbacks, all counted; `fallbacks` is their sum.
-  int fallbacks = 0;
-  int straightest_to_ltd = 0;  // neighbours whose cutting plane crossed no far-side edge
-  int degenerate_rings = 0;    // interior vertices with a degenerate 1-ring -> uniform weights
-  int walk_fallbacks = 0;      // boundary vertices whose plane walk failed -> geodesic distance
+  // Every fallback, counted by kind where it happens (kFallbackKinds).
+  FallbackRecord fallbacks;
   int ears_unfolded = 0;  // measured boundary: ear apexes placed with their own shape (boundary.h)
-  int boundary_fallbacks = 0;  // whole-boundary fallbacks (e.g. measured -> circle)
   int unreferenced_vertices = 0;
   int holes_filled = 0;  // inner boundary loops filled virtually for the solve
   // The UVs as stored (Options::storage): l2/linf/flips above describe them. Faces that rounding

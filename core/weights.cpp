@@ -66,39 +66,50 @@ bool normalizeRow(int n, double* w) {
 
 }  // namespace
 
+namespace weight_schemes {
+
+// The paper's scheme: each neighbour's straightest line through the centre leaves the ring
+// where the cutting plane meets the far side; where it meets none, the LTD direction (counted).
+bool straightest(const Ring& ring, double* w, int& to_ltd) {
+  const Eigen::Vector3d normal = baseNormal(ring);
+  for (int j = 0; j < ring.size(); ++j) {
+    RingExit exit;
+    if (!cuttingPlaneExit(ring, normal, j, exit)) {
+      exit = equalAngleExit(ring, j);
+      ++to_ltd;
+    }
+    addSegmentWeights(ring, j, exit, w);
+  }
+  return true;
+}
+
+bool ltd(const Ring& ring, double* w, int&) {
+  for (int j = 0; j < ring.size(); ++j) addSegmentWeights(ring, j, equalAngleExit(ring, j), w);
+  return true;
+}
+
+bool floater(const Ring& ring, double* w, int&) {
+  return floaterWeights(ring, w);
+}
+
+bool meanValue(const Ring& ring, double* w, int&) {
+  meanValueWeights(ring, w);
+  return true;
+}
+
+// Equal raw weights: normalized, each is exactly 1 / n.
+bool uniform(const Ring& ring, double* w, int&) {
+  for (int k = 0; k < ring.size(); ++k) w[k] = 1;
+  return true;
+}
+
+}  // namespace weight_schemes
+
 bool ringWeights(const Ring& ring, WeightScheme scheme, double* w, int& straightest_to_ltd) {
   const int n = ring.size();
   for (int k = 0; k < n; ++k) w[k] = 0;
-  if (scheme == WeightScheme::Uniform) {
-    uniformWeights(n, w);
-    return true;
-  }
-  switch (scheme) {
-    case WeightScheme::Straightest: {
-      const Eigen::Vector3d normal = baseNormal(ring);
-      for (int j = 0; j < n; ++j) {
-        RingExit exit;
-        if (!cuttingPlaneExit(ring, normal, j, exit)) {
-          exit = equalAngleExit(ring, j);
-          ++straightest_to_ltd;
-        }
-        addSegmentWeights(ring, j, exit, w);
-      }
-      break;
-    }
-    case WeightScheme::Ltd:
-      for (int j = 0; j < n; ++j) addSegmentWeights(ring, j, equalAngleExit(ring, j), w);
-      break;
-    case WeightScheme::Floater:
-      if (!floaterWeights(ring, w)) return false;
-      break;
-    case WeightScheme::MeanValue:
-      meanValueWeights(ring, w);
-      break;
-    case WeightScheme::Uniform:
-      break;
-  }
-  return normalizeRow(n, w);
+  return kWeightSchemes[static_cast<size_t>(scheme)].weights(ring, w, straightest_to_ltd) &&
+         normalizeRow(n, w);
 }
 
 void gatherRing(const Patch& patch, int v, Ring& ring) {
@@ -113,6 +124,7 @@ std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, Weig
   std::vector<double> weights(patch.ring_vertex.size(), 0.0);
   const int n = patch.vertexCount();
   std::vector<WeightCounts> per_worker(parallelWorkers());
+  const WeightSchemeRow& row = kWeightSchemes[static_cast<size_t>(scheme)];
   auto rows = [&](int begin, int end, int worker) {
     Ring ring;
     WeightCounts& local = per_worker[worker];
@@ -121,8 +133,8 @@ std::vector<double> computeWeights(const Patch& patch, WeightScheme scheme, Weig
       gatherRing(patch, v, ring);
       double* w = &weights[patch.ring_begin[v]];
       int vertex_to_ltd = 0;
-      const bool ok = (scheme == WeightScheme::Uniform || prepareRing(ring)) &&
-                      ringWeights(ring, scheme, w, vertex_to_ltd);
+      const bool ok =
+          (!row.uses_angles || prepareRing(ring)) && ringWeights(ring, scheme, w, vertex_to_ltd);
       if (ok) {
         local.straightest_to_ltd += vertex_to_ltd;
       } else {

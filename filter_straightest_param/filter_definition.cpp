@@ -81,10 +81,10 @@ ParameterDescription stringRow(std::string name, std::string label, std::string 
 }
 
 // Choices named as the core names them, labelled as MeshLab shows them.
-template <class Enum, size_t N>
-std::vector<Choice> choicesOf(const std::array<sdp::EnumRow<Enum>, N>& table) {
+template <class Row, size_t N>
+std::vector<Choice> choicesOf(const std::array<Row, N>& table) {
   std::vector<Choice> choices;
-  for (const sdp::EnumRow<Enum>& row : table) choices.push_back({row.name, row.label});
+  for (const Row& row : table) choices.push_back({row.name, row.label});
   return choices;
 }
 
@@ -240,11 +240,12 @@ std::vector<std::string> reportLines(const sdp::Report& r, const std::vector<std
                formatted(field.log_format, field.number(r));
   }
   lines.push_back(summary);
-  if (r.fallbacks > 0) {
-    lines.push_back("fallbacks: straightest->ltd " + std::to_string(r.straightest_to_ltd) +
-                    ", degenerate rings " + std::to_string(r.degenerate_rings) + ", walks " +
-                    std::to_string(r.walk_fallbacks) + ", boundary " +
-                    std::to_string(r.boundary_fallbacks));
+  if (r.fallbacks.total() > 0) {
+    std::string line = "fallbacks:";
+    for (const sdp::FallbackKind& kind : sdp::kFallbackKinds)
+      line += std::string(kind.id == sdp::kFallbackKinds[0].id ? " " : ", ") + kind.log_label +
+              " " + std::to_string(r.fallbacks[kind.id]);
+    lines.push_back(line);
   }
   if (r.stretch_iterations_run > 0) {
     lines.push_back("stretch refinement: " + std::to_string(r.stretch_iterations_run) +

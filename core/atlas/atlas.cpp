@@ -99,7 +99,7 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
     chart.report.l2_stretch = r.report.l2_stretch;
     chart.report.linf_stretch = r.report.linf_stretch;
     chart.report.boundary_used = r.report.boundary_used;
-    chart.report.fallbacks = r.report.fallbacks;
+    chart.report.fallbacks = r.report.fallbacks.total();
     for (const auto& [key, work] : r.report.stage_work)
       (isRefineStage(key) ? chart.refine_work : chart.linear_work) += work;
     for (int f : faces) {

@@ -3,7 +3,9 @@
 // Table 1 ordering on Nefertiti. A mesh in neither place skips its test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <string>
 
 #include "core/parameterize.h"
 #include "io/mesh_io.h"
@@ -102,7 +104,7 @@ TEST(Holes, BeetleAndHalfTunnelGiveOneToOneMaps) {
   // their chords instead, so the measured boundary holds (no whole-boundary fallback) and
   // stretches less than the circle.
   EXPECT_EQ(r.report.boundary_used, "measured");
-  EXPECT_EQ(r.report.boundary_fallbacks, 0);
+  EXPECT_EQ(r.report.fallbacks[Fallback::WholeBoundary], 0);
   EXPECT_EQ(r.report.ears_unfolded, 10);
   EXPECT_EQ(test::countNonPositiveFaces(r, beetle.F), 0);
   Options circle;
@@ -117,8 +119,8 @@ void expectMeasuredBoundaryHolds(const std::string& path) {
   const io::MeshData mesh = io::readMesh(path);
   const Result r = parameterize(mesh.V, mesh.F);
   EXPECT_EQ(r.report.boundary_used, "measured") << path;
-  EXPECT_EQ(r.report.boundary_fallbacks, 0) << path;
-  EXPECT_GT(r.report.walk_fallbacks, 0) << path;
+  EXPECT_EQ(r.report.fallbacks[Fallback::WholeBoundary], 0) << path;
+  EXPECT_GT(r.report.fallbacks[Fallback::DistanceWalk], 0) << path;
   EXPECT_EQ(test::countNonPositiveFaces(r, mesh.F), 0) << path;
 }
 
@@ -158,9 +160,15 @@ TEST(PaperTable1, CamelheadNeedsTheLtdFallbackAndCountsIt) {
   Options o;
   o.boundary = BoundaryShape::Circle;
   const Result r = parameterize(mesh.V, mesh.F, o);
-  EXPECT_GT(r.report.straightest_to_ltd, 0);
-  EXPECT_EQ(r.report.fallbacks, r.report.straightest_to_ltd + r.report.degenerate_rings +
-                                    r.report.walk_fallbacks + r.report.boundary_fallbacks);
+  EXPECT_GT(r.report.fallbacks[Fallback::StraightestToLtd], 0);
+  // The count's warning names it, with the count first.
+  const std::string warning = std::to_string(r.report.fallbacks[Fallback::StraightestToLtd]) +
+                              " neighbours used the LTD direction";
+  EXPECT_TRUE(std::any_of(r.report.warnings.begin(), r.report.warnings.end(),
+                          [&](const std::string& w) { return w.rfind(warning, 0) == 0; }));
+  EXPECT_NE(r.report.toJson().find("\"straightest_to_ltd\": " +
+                                   std::to_string(r.report.fallbacks[Fallback::StraightestToLtd])),
+            std::string::npos);
   EXPECT_EQ(test::countNonPositiveFaces(r, mesh.F), 0);
 }
 

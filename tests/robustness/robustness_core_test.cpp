@@ -411,7 +411,7 @@ TEST(CoreRobustness, GeometryWithoutAreaGivesAConnectivityMapAndSaysSo) {
       const Result r = parameterize(m->V, m->F, with(WeightScheme::Straightest, b));
       EXPECT_TRUE(r.layout.uv.allFinite());
       EXPECT_EQ(countNonPositiveFaces(r, m->F), 0);
-      EXPECT_GT(r.report.degenerate_rings, 0);
+      EXPECT_GT(r.report.fallbacks[Fallback::DegenerateRing], 0);
       EXPECT_FALSE(r.report.warnings.empty());
     }
 }
@@ -479,7 +479,7 @@ TEST(CoreRobustness, ExtremeScalesGiveTheSameMap) {
     const Positions V = m.V * scale;
     const Result r = parameterize(V, m.F);
     EXPECT_EQ(countNonPositiveFaces(r, m.F), 0);
-    EXPECT_EQ(r.report.fallbacks, 0);
+    EXPECT_EQ(r.report.fallbacks.total(), 0);
     EXPECT_NEAR(r.report.l2_stretch, base.report.l2_stretch, 1e-9);
     EXPECT_LT(similarityResidual(base.layout.uv, r.layout.uv), 1e-6);
   }
