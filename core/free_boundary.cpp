@@ -88,7 +88,7 @@ FlatFace flatten(const Patch& patch, int f) {
 }
 
 // Solves L x = b for the global step, L fixed across steps (symmetric, positive weights, one
-// vertex pinned): BiCGSTAB with the project's multigrid from the previous positions
+// vertex pinned): conjugate gradients with the project's multigrid from the previous positions
 // (a step moves them a little); an LDLT factor for small systems or when the iteration does not
 // converge (linear/solve_path.h).
 class GlobalSolver {

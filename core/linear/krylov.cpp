@@ -206,7 +206,109 @@ class BiCgStab {
   double rho_[K], alpha_[K], omega_[K], rho_new_[K];
 };
 
+// Preconditioned conjugate gradients on K columns at once, each with its own scalars; a column
+// stops moving once its residual meets the tolerance (or shows no positive curvature).
+template <int K>
+class ConjugateGradients {
+ public:
+  ConjugateGradients(const Multigrid& mg, const double* b, double* x, double tolerance)
+      : mg_(mg),
+        A_(mg.fine()),
+        N_(static_cast<size_t>(A_.size) * K),
+        b_(b),
+        x_(x),
+        tolerance_(tolerance),
+        r_(N_),
+        z_(N_),
+        p_(N_),
+        q_(N_),
+        work_(mg.makeWorkspace(K)) {
+    columnNorms<K>(b, N_, bnorm_);
+  }
+
+  KrylovOutcome run(int max_iterations) {
+    KrylovOutcome out;
+    out.relative_residual = trueResidual();
+    for (int c = 0; c < K; ++c) active_[c] = rnorm_[c] > tolerance_ * bnorm_[c];
+    if (anyActive()) {
+      mg_.cycle<K>(r_.data(), z_.data(), work_);
+      p_ = z_;
+      columnDots<K>(r_, z_, rz_);
+    }
+    while (out.iterations < max_iterations && anyActive()) {
+      ++out.iterations;
+      step();
+    }
+    out.relative_residual = trueResidual();
+    out.converged = std::isfinite(out.relative_residual) && out.relative_residual <= tolerance_;
+    return out;
+  }
+
+ private:
+  void step() {
+    multiply<K>(A_, p_.data(), q_.data());
+    double pq[K], alpha[K];
+    columnDots<K>(p_, q_, pq);
+    for (int c = 0; c < K; ++c) {
+      if (active_[c] && !(pq[c] > 0 && rz_[c] > 0)) active_[c] = false;
+      alpha[c] = active_[c] ? rz_[c] / pq[c] : 0.0;
+    }
+    for (size_t i = 0; i < N_; i += K)
+      for (int c = 0; c < K; ++c) {
+        x_[i + c] += alpha[c] * p_[i + c];
+        r_[i + c] -= alpha[c] * q_[i + c];
+      }
+    columnNorms<K>(r_.data(), N_, rnorm_);
+    for (int c = 0; c < K; ++c)
+      if (!(rnorm_[c] > tolerance_ * bnorm_[c])) active_[c] = false;
+    if (!anyActive()) return;
+    mg_.cycle<K>(r_.data(), z_.data(), work_);
+    double rz_new[K], beta[K];
+    columnDots<K>(r_, z_, rz_new);
+    for (int c = 0; c < K; ++c) {
+      beta[c] = active_[c] ? rz_new[c] / rz_[c] : 0.0;
+      rz_[c] = rz_new[c];
+    }
+    for (size_t i = 0; i < N_; i += K)
+      for (int c = 0; c < K; ++c)
+        if (active_[c]) p_[i + c] = z_[i + c] + beta[c] * p_[i + c];
+  }
+  double trueResidual() {
+    multiply<K>(A_, x_, r_.data());
+    for (size_t i = 0; i < N_; ++i) r_[i] = b_[i] - r_[i];
+    columnNorms<K>(r_.data(), N_, rnorm_);
+    double worst = 0;
+    for (int c = 0; c < K; ++c)
+      worst = std::max(worst, bnorm_[c] > 0 ? rnorm_[c] / bnorm_[c] : 0.0);
+    return worst;
+  }
+  bool anyActive() const {
+    for (int c = 0; c < K; ++c)
+      if (active_[c]) return true;
+    return false;
+  }
+
+  const Multigrid& mg_;
+  const SplitCsr& A_;
+  const size_t N_;
+  const double* b_;
+  double* x_;
+  const double tolerance_;
+  std::vector<double> r_, z_, p_, q_;
+  MultigridWorkspace work_;
+  double bnorm_[K], rnorm_[K], rz_[K] = {};
+  bool active_[K] = {};
+};
+
 }  // namespace
+
+template <int K>
+KrylovOutcome solveConjugateGradients(const Multigrid& mg, const double* b, double* x,
+                                      double tolerance, int max_iterations) {
+  return ConjugateGradients<K>(mg, b, x, tolerance).run(max_iterations);
+}
+template KrylovOutcome solveConjugateGradients<2>(const Multigrid&, const double*, double*, double,
+                                                  int);
 
 template <int K>
 KrylovOutcome solveBiCgStab(const Multigrid& mg, const double* b, double* x, double tolerance,

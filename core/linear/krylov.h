@@ -1,7 +1,9 @@
 // Krylov solvers, the one home of the loops every solve here runs:
 //   solveBiCgStab<K>  right-preconditioned BiCGSTAB on K interleaved right-hand sides of a
-//                     Multigrid's fine operator (the interior solve and the free-boundary
-//                     Laplacian), the multigrid cycle as preconditioner;
+//                     Multigrid's fine operator (the interior solve: not symmetric), the
+//                     multigrid cycle as preconditioner;
+//   solveConjugateGradients<K>  the same for a symmetric positive-definite operator (the
+//                     free-boundary Laplacian);
 //   truncatedConjugateGradients  preconditioned CG for a symmetric positive-definite operator
 //                     given as callables (the matrix-free Newton steps).
 // Vectors: interleaved K columns, x[i * K + c] is row i of column c.
@@ -26,6 +28,14 @@ struct KrylovOutcome {
 template <int K>
 KrylovOutcome solveBiCgStab(const Multigrid& mg, const double* b, double* x, double tolerance,
                             int max_iterations);
+
+// Preconditioned conjugate gradients on K interleaved right-hand sides of a Multigrid's fine
+// operator, which must be symmetric positive definite (the free-boundary Laplacian), with the
+// cycle (symmetric: Gauss-Seidel forward before, backward after) as preconditioner. x holds the
+// initial guess and the result. One cycle and one product per iteration, BiCGSTAB's half.
+template <int K>
+KrylovOutcome solveConjugateGradients(const Multigrid& mg, const double* b, double* x,
+                                      double tolerance, int max_iterations);
 
 // Truncated preconditioned conjugate gradients for A d = rhs from d = 0, to the relative
 // residual `tolerance` or `max_iterations`: every iterate of an A-descent is a descent direction,

@@ -82,9 +82,14 @@ bool LaplacianMultigrid::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, d
     yn.row(r) = x.row(i) * root_diagonal_[i];
   }
   const KrylovOutcome outcome =
-      solveBiCgStab<2>(multigrid_, bn.data(), yn.data(), tolerance, max_iterations);
-  spent_work_ +=
-      (outcome.iterations + 1) * multigrid_.iterationWork() + 4.0 * n * WorkCosts::kVectorEntry;
+      solveConjugateGradients<2>(multigrid_, bn.data(), yn.data(), tolerance, max_iterations);
+  // Per iteration one cycle, one product and five vector passes (u and v); the true residuals.
+  const double iteration_work = multigrid_.cycleWork() +
+                                multigrid_.fine().nonZeros() * WorkCosts::kNonzero +
+                                5.0 * n * WorkCosts::kVectorEntry;
+  spent_work_ += outcome.iterations * iteration_work +
+                 2.0 * multigrid_.fine().nonZeros() * WorkCosts::kNonzero +
+                 4.0 * n * WorkCosts::kVectorEntry;
   if (!outcome.converged) return false;
   for (int r = 0; r < n; ++r) x.row(order_[r]) = yn.row(r) / root_diagonal_[order_[r]];
   return true;

@@ -27,7 +27,8 @@ class LaplacianMultigrid {
   // False when a row had no positive diagonal or coarsening stalled.
   bool usable() const { return usable_; }
 
-  // Solves L x = b (BiCGSTAB, x is the start) to the relative residual `tolerance`; false when
+  // Solves L x = b (L symmetric positive definite: conjugate gradients, x is the start) to the
+  // relative residual `tolerance`; false when
   // it did not converge within `max_iterations`.
   bool solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, double tolerance,
              int max_iterations) const;
