@@ -338,10 +338,12 @@ std::vector<std::pair<int, int>> dividingEdges(const Patch& patch) {
   return edges;
 }
 
-Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& spacing,
-                           const std::vector<std::pair<int, int>>& dividing_edges) {
+namespace {
+
+// The convex hull's vertices (Andrew's monotone chain; collinear points are not hull vertices),
+// in polygon order: for a simple polygon this is also the hull's order.
+std::vector<int> hullCorners(const Polygon& polygon) {
   const int n = static_cast<int>(polygon.size());
-  // Andrew's monotone chain; collinear points are not hull vertices.
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) {
@@ -363,23 +365,27 @@ Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& sp
   }
   std::vector<char> on_hull(n, 0);
   for (int k : hull) on_hull[k] = 1;
-  // Hull vertices in polygon order (for a simple polygon this is also the hull's order).
   std::vector<int> corners;
   for (int k = 0; k < n; ++k)
     if (on_hull[k]) corners.push_back(k);
-  // Corners that barely turn (rounding noise on a straight side) would get a bulge too small
-  // to survive rounding: treat them as side points. Dropping a corner keeps the hull convex.
+  return corners;
+}
+
+// Corners that barely turn (rounding noise on a straight side) would get a bulge too small to
+// survive rounding: they become side points (dropping a corner keeps the hull convex). `turn`
+// gets the kept corners' turns. False when fewer than 3 corners stay or a corner turns the wrong
+// way (the input was not a simple star-shaped polygon).
+bool dropFlatCorners(const Polygon& polygon, std::vector<int>& corners, std::vector<double>& turn) {
   constexpr double kMinTurn = 1e-6;
-  std::vector<double> turn;
   for (bool dropped = true; dropped;) {
     dropped = false;
     const int m = static_cast<int>(corners.size());
-    if (m < 3) return {};
+    if (m < 3) return false;
     turn.assign(m, 0);
     for (int c = 0; c < m; ++c) {
       turn[c] = turnAngle(polygon[corners[(c + m - 1) % m]], polygon[corners[c]],
                           polygon[corners[(c + 1) % m]]);
-      if (!(turn[c] > -kMinTurn)) return {};  // the input was not a simple star-shaped polygon
+      if (!(turn[c] > -kMinTurn)) return false;
     }
     for (int c = 0; c < m; ++c)
       if (turn[c] < kMinTurn) {
@@ -388,9 +394,14 @@ Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& sp
         break;
       }
   }
+  return true;
+}
+
+// Side c runs from corners[c] to corners[c+1]; a dividing edge with both ends on one side
+// (corners included) asks that side for room.
+std::vector<char> sidesNeedingRoom(int n, const std::vector<int>& corners,
+                                   const std::vector<std::pair<int, int>>& dividing_edges) {
   const int m = static_cast<int>(corners.size());
-  // Side c runs from corners[c] to corners[c+1]; a dividing edge with both ends on one side
-  // (corners included) asks that side for room.
   std::vector<int> side_of(n);
   for (int c = 0; c < m; ++c)
     for (int k = corners[c]; k != corners[(c + 1) % m]; k = (k + 1) % n) side_of[k] = c;
@@ -408,6 +419,19 @@ Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& sp
       if (onSide(b, prev)) needs_room[prev] = 1;
     }
   }
+  return needs_room;
+}
+
+}  // namespace
+
+Polygon makeStrictlyConvex(const Polygon& polygon, const std::vector<double>& spacing,
+                           const std::vector<std::pair<int, int>>& dividing_edges) {
+  const int n = static_cast<int>(polygon.size());
+  std::vector<int> corners = hullCorners(polygon);
+  std::vector<double> turn;
+  if (!dropFlatCorners(polygon, corners, turn)) return {};
+  const int m = static_cast<int>(corners.size());
+  const std::vector<char> needs_room = sidesNeedingRoom(n, corners, dividing_edges);
   Polygon result(polygon);
   for (int c = 0; c < m; ++c) {
     const int from = corners[c], to = corners[(c + 1) % m];

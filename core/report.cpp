@@ -60,9 +60,13 @@ std::string ReportField::jsonValue(const Report& r) const {
   return integer ? jsonInt(static_cast<int>(number(r))) : jsonNumber(number(r));
 }
 
-const std::vector<ReportField>& reportFields() {
-  using R = const Report&;
-  static const std::vector<ReportField> fields = {
+namespace {
+
+using R = const Report&;
+
+// The summary rows: what every front end shows.
+std::vector<ReportField> summaryFields() {
+  return {
       summary("l2_stretch",
               "Sander et al. L2 texture stretch of the map as stored, area-weighted, normalized so "
               "1.0 is "
@@ -86,6 +90,12 @@ const std::vector<ReportField>& reportFields() {
               "wall time of the parameterization (topology, weights, boundary, solve, "
               "refinement, metrics), no file I/O",
               "seconds", "%.3f", false, [](R r) { return r.seconds; }),
+  };
+}
+
+// The patch, the choices and the refinement.
+std::vector<ReportField> runFields() {
+  return {
       integer("vertices",
               "vertices of the patch (unreferenced ones are left out and counted below)",
               [](R r) { return double(r.vertices); }),
@@ -117,6 +127,12 @@ const std::vector<ReportField>& reportFields() {
            "work the refinement did, as a multiple of the linear map's (counted from sizes and "
            "iterations, not timed: the same on every run)",
            [](R r) { return r.refinement_work; }),
+  };
+}
+
+// The counts, the storage, the stages and the messages.
+std::vector<ReportField> detailFields() {
+  return {
       other("fallback_counts", fallbackCountsMeaning(),
             [](R r) {
               std::vector<std::pair<std::string, std::string>> counts;
@@ -165,6 +181,19 @@ const std::vector<ReportField>& reportFields() {
           "what was done that needs no action (a storage repair); in MeshLab's log as plain lines",
           [](R r) { return jsonList(r.notes, jsonString); }),
   };
+}
+
+}  // namespace
+
+const std::vector<ReportField>& reportFields() {
+  static const std::vector<ReportField> fields = [] {
+    std::vector<ReportField> all = summaryFields();
+    for (auto part : {runFields, detailFields}) {
+      const std::vector<ReportField> rows = part();
+      all.insert(all.end(), rows.begin(), rows.end());
+    }
+    return all;
+  }();
   return fields;
 }
 

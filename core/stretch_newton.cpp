@@ -378,6 +378,78 @@ class AssembledNewtonSystem {
   mutable double spent_work_ = 0;
 };
 
+// Start at the 3D size, as the ARAP steps do (the energy does not see the scale; the Hessian's
+// conditioning does). Scaling by s multiplies S by s^2 and Q by 1 / s^2, so the energy of the
+// rescaled map follows from `e`, the map's energy before.
+bool rescaleToArea(LocalUVs& map, int n, double total_area, Energy& e) {
+  if (!(e.S > 0) || !std::isfinite(e.Q)) return false;
+  const double s = std::sqrt(total_area / e.S);
+  for (int v = 0; v < n; ++v) map[v] *= s;
+  e.Q /= s * s;
+  e.S = total_area;
+  return true;
+}
+
+// The Newton direction at a map: by the sparse factor (its pattern analysed once) or by
+// conjugate gradients on the assembled blocks (linear/solve_path.h decides which), its work
+// charged to the descent.
+class NewtonDirection {
+ public:
+  NewtonDirection(const Patch& patch, const std::vector<FaceFrame>& frames,
+                  const StretchNewtonSettings& settings, const RefineBudget& budget)
+      : patch_(patch),
+        frames_(frames),
+        settings_(settings),
+        n_(patch.real_vertex_count),
+        direct_(!stretchNewtonIsMatrixFree(n_, settings)) {
+    if (direct_) {
+      H_.resize(2 * n_, 2 * n_);
+    } else {
+      matrix_free_.emplace(patch, frames);
+      budget.charge(matrix_free_->spentWork());
+    }
+    gradient.resize(2 * n_);
+    direction.resize(2 * n_);
+  }
+
+  // gradient and direction at `current` (whose energy is `energy`); false when there is none.
+  bool compute(const LocalUVs& current, const Energy& energy, CheckedDescent& descent,
+               StretchNewtonCounts& counts) {
+    if (!direct_) {
+      const double before = matrix_free_->spentWork();
+      const bool usable = matrix_free_->update(current, energy, gradient);
+      if (usable)
+        counts.cg_iterations += matrix_free_->solve(gradient, direction, settings_.cg_tolerance,
+                                                    settings_.cg_max_iterations);
+      descent.addWork(matrix_free_->spentWork() - before);
+      return usable && direction.allFinite();
+    }
+    assembleNewtonSystem(patch_, frames_, current, energy, gradient, entries_);
+    H_.setFromTriplets(entries_.begin(), entries_.end());
+    // The per-face terms, then 36 entries per face summed into the matrix.
+    descent.addWork(patch_.real_face_count *
+                    (WorkCosts::kNewtonHessianFace + 72 * WorkCosts::kNonzero));
+    if (!factor_.factorize(H_)) return false;
+    const double factor_work = factor_.lastWork();
+    const bool solved = factor_.solve(-gradient, direction);
+    descent.addWork(factor_work + factor_.lastWork());
+    return solved;
+  }
+
+  Eigen::VectorXd gradient, direction;
+
+ private:
+  const Patch& patch_;
+  const std::vector<FaceFrame>& frames_;
+  const StretchNewtonSettings& settings_;
+  const int n_;
+  const bool direct_;
+  SymmetricFactor factor_;
+  std::vector<Eigen::Triplet<double>> entries_;
+  Eigen::SparseMatrix<double> H_;
+  std::optional<AssembledNewtonSystem> matrix_free_;
+};
+
 }  // namespace
 
 bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings) {
@@ -392,70 +464,25 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
   const int faces = patch.real_face_count;
   if (steps <= 0 || n < 3 || faces == 0) return uv;
   if (budget.expired()) return uv;
-  const bool direct = !stretchNewtonIsMatrixFree(n, settings);
   std::optional<CheckedDescent> descent;  // made inside the try: its allocations may fail too
   try {
     const double total_area = patchArea3d(patch);
     if (!(total_area > 0)) return uv;
     std::vector<FaceFrame> frames(faces);
     for (int f = 0; f < faces; ++f) frames[f] = faceFrame(patch, f, 1e-14 * total_area);
-
-    // Start at the 3D size, as the ARAP steps do (the energy does not see the scale; the
-    // Hessian's conditioning does).
-    // Scaling by s multiplies S by s^2 and Q by 1 / s^2, so the energy of the rescaled map
-    // follows from `e`, the map's energy before.
-    auto rescale = [&](LocalUVs& map, Energy& e) {
-      if (!(e.S > 0) || !std::isfinite(e.Q)) return false;
-      const double s = std::sqrt(total_area / e.S);
-      for (int v = 0; v < n; ++v) map[v] *= s;
-      e.Q /= s * s;
-      e.S = total_area;
-      return true;
-    };
     descent.emplace(patch, uv, metrics, budget, progress, Stage::Newton);
     LocalUVs& current = descent->current();  // the best map stays `uv` until a step beats it
     Energy energy = energyOf(patch, frames, current);
     budget.charge(2.0 * faces * WorkCosts::kEnergyFace);  // the frames and the first energy
-    if (!rescale(current, energy)) return uv;
+    if (!rescaleToArea(current, n, total_area, energy)) return uv;
 
-    SymmetricFactor factor;
-    std::vector<Eigen::Triplet<double>> entries;
-    Eigen::SparseMatrix<double> H;
-    std::optional<AssembledNewtonSystem> matrix_free;
-    if (direct) {
-      H.resize(2 * n, 2 * n);
-    } else {
-      matrix_free.emplace(patch, frames);
-      budget.charge(matrix_free->spentWork());
-    }
-    Eigen::VectorXd gradient(2 * n), direction(2 * n);
+    NewtonDirection newton(patch, frames, settings, budget);
+    const Eigen::VectorXd& gradient = newton.gradient;
+    Eigen::VectorXd& direction = newton.direction;
     LocalUVs step(current.size(), Eigen::Vector2d::Zero());
-
-    // The direction: the Newton step, by the sparse factor or by conjugate gradients.
-    auto newtonDirection = [&]() {
-      if (!direct) {
-        const double before = matrix_free->spentWork();
-        const bool usable = matrix_free->update(current, energy, gradient);
-        if (usable)
-          counts.cg_iterations += matrix_free->solve(gradient, direction, settings.cg_tolerance,
-                                                     settings.cg_max_iterations);
-        descent->addWork(matrix_free->spentWork() - before);
-        return usable && direction.allFinite();
-      }
-      assembleNewtonSystem(patch, frames, current, energy, gradient, entries);
-      H.setFromTriplets(entries.begin(), entries.end());
-      // The per-face terms, then 36 entries per face summed into the matrix.
-      descent->addWork(faces * (WorkCosts::kNewtonHessianFace + 72 * WorkCosts::kNonzero));
-      if (!factor.factorize(H)) return false;
-      const double factor_work = factor.lastWork();
-      const bool solved = factor.solve(-gradient, direction);
-      descent->addWork(factor_work + factor.lastWork());
-      return solved;
-    };
-
     for (int it = 0; it < steps; ++it) {
       if (!descent->beginStep(it, steps)) break;
-      if (!newtonDirection()) {
+      if (!newton.compute(current, energy, *descent, counts)) {
         counts.stopped = true;
         break;
       }
@@ -477,7 +504,7 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         trial = energyOf(patch, frames, candidate);
         descent->addWork(faces * WorkCosts::kEnergyFace);
         if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) return false;
-        return rescale(candidate, trial);
+        return rescaleToArea(candidate, n, total_area, trial);
       };
       const double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
       descent->addWork(faces * WorkCosts::kFlipCheckFace);
