@@ -25,6 +25,25 @@ void columnDots(const std::vector<double>& a, const std::vector<double>& b, doub
   for (int c = 0; c < K; ++c) dot[c] = s[c];
 }
 
+// r = b - A x and its column norms; returns the worst relative residual ||r|| / ||b||.
+template <int K>
+double trueResidual(const SplitCsr& A, const double* b, const double* x, std::vector<double>& r,
+                    const double* bnorm, double* rnorm) {
+  multiply<K>(A, x, r.data());
+  for (size_t i = 0; i < r.size(); ++i) r[i] = b[i] - r[i];
+  columnNorms<K>(r.data(), r.size(), rnorm);
+  double worst = 0;
+  for (int c = 0; c < K; ++c) worst = std::max(worst, bnorm[c] > 0 ? rnorm[c] / bnorm[c] : 0.0);
+  return worst;
+}
+
+template <int K>
+bool anyOf(const bool (&flags)[K]) {
+  for (int c = 0; c < K; ++c)
+    if (flags[c]) return true;
+  return false;
+}
+
 // BiCGSTAB's state for one run; each step below is a stage of the classic iteration, with the
 // column scalars kept apart (a finished column keeps its x and r).
 template <int K>
@@ -68,15 +87,7 @@ class BiCgStab {
   }
 
  private:
-  double trueResidual() {
-    multiply<K>(A_, x_, r_.data());
-    for (size_t i = 0; i < N_; ++i) r_[i] = b_[i] - r_[i];
-    columnNorms<K>(r_.data(), N_, rnorm_);
-    double worst = 0;
-    for (int c = 0; c < K; ++c)
-      worst = std::max(worst, bnorm_[c] > 0 ? rnorm_[c] / bnorm_[c] : 0.0);
-    return worst;
-  }
+  double trueResidual() { return sdp::trueResidual<K>(A_, b_, x_, r_, bnorm_, rnorm_); }
 
   void restart() {
     for (int c = 0; c < K; ++c) {
@@ -89,11 +100,7 @@ class BiCgStab {
     columnDots<K>(rhat_, r_, rho_new_);  // later taken in the update of r
   }
 
-  bool anyActive() const {
-    bool any = false;
-    for (int c = 0; c < K; ++c) any = any || active_[c];
-    return any;
-  }
+  bool anyActive() const { return anyOf<K>(active_); }
 
   // p = r + beta (p - omega v), hat = M p, v = A hat, alpha = rho / (rhat, v).
   bool searchDirection() {
@@ -273,20 +280,8 @@ class ConjugateGradients {
       for (int c = 0; c < K; ++c)
         if (active_[c]) p_[i + c] = z_[i + c] + beta[c] * p_[i + c];
   }
-  double trueResidual() {
-    multiply<K>(A_, x_, r_.data());
-    for (size_t i = 0; i < N_; ++i) r_[i] = b_[i] - r_[i];
-    columnNorms<K>(r_.data(), N_, rnorm_);
-    double worst = 0;
-    for (int c = 0; c < K; ++c)
-      worst = std::max(worst, bnorm_[c] > 0 ? rnorm_[c] / bnorm_[c] : 0.0);
-    return worst;
-  }
-  bool anyActive() const {
-    for (int c = 0; c < K; ++c)
-      if (active_[c]) return true;
-    return false;
-  }
+  double trueResidual() { return sdp::trueResidual<K>(A_, b_, x_, r_, bnorm_, rnorm_); }
+  bool anyActive() const { return anyOf<K>(active_); }
 
   const Multigrid& mg_;
   const SplitCsr& A_;
