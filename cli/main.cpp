@@ -307,8 +307,8 @@ int run(const Arguments& args) {
   // holds them in single precision, OBJ in full: the core makes the map one-to-one as stored.
   sdp::Options options = sdp::filter::toOptions(args.values);
   options.source_vertex = args.values.source_vertex;  // the file's numbering is the core's
-  options.fit_unit_square = !args.values.natural_scale;
-  options.storage =
+  options.storage.fit_unit_square = !args.values.natural_scale;
+  options.storage.precision =
       lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
   sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
   sdp::Report& report = result.report;

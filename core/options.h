@@ -118,6 +118,16 @@ inline std::optional<SourceRule> parseSourceRule(const std::string& name) {
 }
 const char* uvStorageName(UVStorage storage);
 
+// How a front end keeps a layout (storage.h's store step): the frame and the precision.
+struct StoragePolicy {
+  // Scale and move the whole layout uniformly (aspect kept) so the texture coordinates its
+  // faces use span [0,1] on the longer side, centred; else keep the layout's own frame (the
+  // core's natural scale, 3D units).
+  bool fit_unit_square = false;
+  // Rounded to what the storage holds, repaired where rounding would degenerate a face.
+  UVStorage precision = UVStorage::Double;
+};
+
 // Called with a stage name and a percentage (0..100) of the whole run; returning false cancels
 // the run (the core then throws ParameterizationError("cancelled by the user")).
 using ProgressCallback = std::function<bool(const char* stage, int percent)>;
@@ -152,11 +162,8 @@ struct Options {
   double refine_work_factor = 0;
   double refine_min_work = 0;
   double time_limit_seconds = 0;
-  // The frame and precision of the returned UVs: fitted (aspect kept) so the faces span [0,1] on
-  // the longer side, or the core's natural scale (3D units); rounded to what the storage holds,
-  // and repaired where rounding would degenerate a face.
-  bool fit_unit_square = false;
-  UVStorage storage = UVStorage::Double;
+  // How the front end keeps the UVs: parameterize()'s store step (storage.h).
+  StoragePolicy storage;
   ProgressCallback progress;
 };
 

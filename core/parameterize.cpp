@@ -142,9 +142,7 @@ Result flattenDisk(const Positions& V, const Triangles& F, const Options& option
 
 Result parameterize(const Positions& V, const Triangles& F, const Options& options) {
   Result result = flattenDisk(V, F, options);
-  StoragePolicy policy;
-  policy.fit_unit_square = options.fit_unit_square;
-  policy.precision = options.storage;
+  const StoragePolicy& policy = options.storage;
   const Progress progress(options.progress);
   try {
     storeChecked(V, F, policy, progress, result);

@@ -29,17 +29,15 @@ struct SolverSettings {
   SolverMethod method = SolverMethod::Automatic;
   // Automatic: LU up to this many unknowns (linear/solve_path.h).
   int direct_up_to = DirectUpTo::kInteriorSolve;
-  // Relative residual ||b - A x|| / ||b|| of u and of v. 1e-8 gives UVs within 5e-8 of LU at
-  // 414k vertices (coordinates of size 1) in 6 instead of 8 iterations (1e-10: 1.4e-9). The
-  // pipeline checks every map for flipped faces anyway; a map that fails the check is solved
-  // again to tight_tolerance (tighten()) before any other fallback, so a loose solve never
-  // costs a fold, only a few more iterations on the rare mesh that needs them.
+  // Relative residual ||b - A x|| / ||b|| of u and of v (docs/measurements.md). The pipeline
+  // checks every map for flipped faces anyway; a map that fails the check is solved again to
+  // tight_tolerance (tighten()) before any other fallback, so a loose solve never costs a fold,
+  // only a few more iterations on the rare mesh that needs them.
   double tolerance = 1e-8;
   double tight_tolerance = 1e-12;
   int max_iterations = 100;  // BiCGSTAB iterations before falling back to LU (it takes 7-11)
-  // u and v on two threads instead of in lockstep on one: 7% faster on two idle cores at 414k
-  // vertices (the sweeps are memory-bound, lockstep reads the matrix once for both) for 40% more
-  // CPU, and slower when the other core is busy.
+  // u and v on two threads instead of in lockstep on one (lockstep reads the matrix once for
+  // both; docs/measurements.md has why it is off).
   bool parallel_columns = false;
   MultigridSettings multigrid;
 };

@@ -16,14 +16,6 @@
 
 namespace sdp {
 
-// How the front end keeps the layout.
-struct StoragePolicy {
-  // Scale and move the whole layout uniformly (aspect kept) so the texture coordinates its
-  // faces use span [0,1] on the longer side, centred; else keep the layout's own frame.
-  bool fit_unit_square = false;
-  UVStorage precision = UVStorage::Double;
-};
-
 struct StorageCounts {
   int degenerate_faces = 0;  // faces flipped or degenerate once rounded, before the repair
   int moved_vertices = 0;    // distinct texture coordinates (layout rows) the repair moved

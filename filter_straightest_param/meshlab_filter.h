@@ -189,18 +189,14 @@ MeshModelRun parameterizeMeshModel(MeshModelT& mm, const ParameterList& paramete
   vcg_adapter::WriteOptions write;
   // Per-vertex UVs only where the mesh already had them, so they do not go stale.
   write.vertex_texcoords = mm.hasDataMask(MeshModelT::MM_VERTTEXCOORD);
-  const auto stored = vcg_adapter::prepareResult<Mesh>(out.run.input, out.run.result);
+  const auto stored = vcg_adapter::prepareLayout<Mesh>(out.run.input, out.run.result.layout,
+                                                       out.run.result.face_stretch);
   // The texture is written before the mesh changes, so its failure too leaves the mesh as it was.
   out.texture =
       writeCheckerTexture(mm.fullName(), values.texture_name, values.texture_size, values.checkers);
 
   mm.updateDataMask(MeshModelT::MM_WEDGTEXCOORD | MeshModelT::MM_FACEQUALITY);
   vcg_adapter::applyResult(mm.cm, out.run.input, stored, write);
-  // The report speaks of the UVs as the mesh holds them (the core measured them rounded so).
-  sdp::Report& report = out.run.result.report;
-  report.l2_stretch = stored.metrics.l2_stretch;
-  report.linf_stretch = stored.metrics.linf_stretch;
-  report.flipped_faces = stored.metrics.flipped_faces;
   return out;
 }
 

@@ -154,22 +154,22 @@ using TexScalarOf = typename MeshType::FaceType::TexCoordType::ScalarType;
 // What the core returns for MeshLab: UVs in the unit square, rounded to what MeshLab's float
 // texture coordinates and its OBJ exporter's 6 decimals hold, one-to-one as stored.
 inline void setMeshLabStorage(sdp::Options& options) {
-  options.fit_unit_square = true;
-  options.storage = sdp::UVStorage::FloatAndSixDecimals;
+  options.storage = {true, sdp::UVStorage::FloatAndSixDecimals};
 }
 
-// The UVs exactly as the mesh will hold them, and their measures (the core measured the map as
-// stored, see setMeshLabStorage).
+// The UVs exactly as the mesh will hold them, and the per-face stretch the faces' quality gets.
+// The core measured and certified the map as stored (setMeshLabStorage), so its report already
+// speaks of these values.
 template <class TexScalar>
 struct StoredResult {
-  std::vector<TexScalar> u, v;  // per row of the layout's uv
-  sdp::Triangles face_uv;       // per patch face and corner: its row (the layout's face_uv)
-  sdp::UVMeasures metrics;      // of the stored UVs (flips, L2, L-infinity, per-face L2)
+  std::vector<TexScalar> u, v;       // per row of the layout's uv
+  sdp::Triangles face_uv;            // per patch face and corner: its row (the layout's face_uv)
+  std::vector<double> face_stretch;  // per patch face
 };
 
 // Computes what applyResult() writes, without touching the mesh. The layout's UVs must already
-// be storable: a value the mesh cannot hold exactly would change the map after its final check.
-// `metrics` are the stored map's measures (the core measured them so).
+// be storable: a value the mesh cannot hold exactly would change the map after the core's final
+// check, so this conversion, the adapter's own, refuses such a value.
 template <class MeshType>
 StoredResult<TexScalarOf<MeshType>> prepareLayout(const PatchInput& in, const sdp::Layout& layout,
                                                   const std::vector<double>& face_stretch) {
@@ -194,19 +194,7 @@ StoredResult<TexScalarOf<MeshType>> prepareLayout(const PatchInput& in, const sd
           "internal error: the texture coordinates were not rounded for MeshLab's storage");
     }
   }
-  stored.metrics.face_stretch = face_stretch;
-  return stored;
-}
-
-// prepareLayout() of a patch result, with its report's measures.
-template <class MeshType>
-StoredResult<TexScalarOf<MeshType>> prepareResult(const PatchInput& in, const sdp::Result& result) {
-  StoredResult<TexScalarOf<MeshType>> stored =
-      prepareLayout<MeshType>(in, result.layout, result.face_stretch);
-  const sdp::Report& r = result.report;
-  if (r.flipped_faces > 0)
-    throw sdp::ParameterizationError("internal error: the map to store has flipped faces");
-  stored.metrics = {r.l2_stretch, r.linf_stretch, r.flipped_faces, result.face_stretch};
+  stored.face_stretch = face_stretch;
   return stored;
 }
 
@@ -233,7 +221,7 @@ void applyResult(MeshType& mesh, const PatchInput& in,
       }
     }
     if (options.face_quality) {
-      f.Q() = static_cast<typename MeshType::FaceType::QualityType>(stored.metrics.face_stretch[i]);
+      f.Q() = static_cast<typename MeshType::FaceType::QualityType>(stored.face_stretch[i]);
     }
   }
   if (options.vertex_texcoords) {

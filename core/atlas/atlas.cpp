@@ -289,8 +289,7 @@ class AtlasBuilder {
   // atlas, shared by area (faces), not one per chart.
   Options chartOptions(size_t faces) const {
     Options o = options_.chart;
-    o.fit_unit_square = false;
-    o.storage = UVStorage::Double;
+    o.storage = StoragePolicy{};  // the atlas stores all charts at once, packed
     o.progress = [this](const char*, int) { return !cancelled_.load(); };
     if (o.refine_min_work > 0)
       o.refine_min_work *= static_cast<double>(faces) / std::max(result_.report.faces, 1);

@@ -4,8 +4,8 @@
 // with mesh-independent convergence (8 iterations from 104k to 1.65M vertices), so the solve
 // grows linearly with the vertex count. Greedy aggregates on the strong-connection graph, one
 // damped Jacobi step on the prolongation, Galerkin coarse operators, Gauss-Seidel smoothing
-// (forward before, backward after), W-cycles, dense LU at the bottom; solve.h has the numbers
-// against sparse LU, UMFPACK and ILUT.
+// (forward before, backward after), W-cycles, dense LU at the bottom; docs/measurements.md has
+// the numbers against sparse LU, UMFPACK and ILUT.
 #pragma once
 
 #include <Eigen/Core>

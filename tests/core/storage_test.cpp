@@ -48,8 +48,8 @@ double asFloat(double x) {
 // The needle grid fitted to the unit square and stored as `storage` says.
 Result storedNeedleGrid(const test::Mesh& m, UVStorage storage) {
   Options o;
-  o.fit_unit_square = true;
-  o.storage = storage;
+  o.storage.fit_unit_square = true;
+  o.storage.precision = storage;
   return parameterize(m.V, m.F, o);
 }
 
@@ -101,8 +101,8 @@ TEST(Storage, FloatStorageIsRepaired) {
 TEST(Storage, UnitSquareFitSpansZeroToOne) {
   const test::Mesh m = test::grid(6, 2, 1, [](double x, double y) { return 0.2 * x * y; });
   Options o;
-  o.fit_unit_square = true;
-  o.storage = UVStorage::FloatAndSixDecimals;
+  o.storage.fit_unit_square = true;
+  o.storage.precision = UVStorage::FloatAndSixDecimals;
   const Result r = parameterize(m.V, m.F, o);
   const double low = std::min(r.layout.uv.col(0).minCoeff(), r.layout.uv.col(1).minCoeff());
   const double high = std::max(r.layout.uv.col(0).maxCoeff(), r.layout.uv.col(1).maxCoeff());
@@ -167,8 +167,8 @@ namespace {
 TEST(StoreStep, ParameterizeIsFlattenDiskThenStore) {
   const test::Mesh m = test::grid(20, 3, 2, [](double x, double y) { return 0.4 * x * y; });
   Options o = productDefaults();
-  o.fit_unit_square = true;
-  o.storage = UVStorage::FloatAndSixDecimals;
+  o.storage.fit_unit_square = true;
+  o.storage.precision = UVStorage::FloatAndSixDecimals;
   const Result stored = parameterize(m.V, m.F, o);
   Result flat = flattenDisk(m.V, m.F, o);
   const double extent =
