@@ -31,17 +31,16 @@ struct UVMeasures {
 UVMeasures measureUVs(const Positions& V, const Triangles& F, const UVs& uv);
 
 // Flattens a disk-shaped patch and stores it as the options ask: flattenDisk(), then the store
-// step (storage.h: fit_unit_square, storage). Throws ParameterizationError with a one-line
-// reason when the input is not a valid patch, a coordinate is not finite, or no one-to-one map
-// could be made or stored: a returned Result is always one-to-one as stored
-// (report.flipped_faces == 0), and its report describes the stored values.
+// step (storage.h) with options.storage. Throws ParameterizationError with a one-line reason
+// when the input is not a valid patch, a coordinate is not finite, or no one-to-one map could be
+// made or stored: a returned Result is always one-to-one as stored (report.flipped_faces == 0),
+// and its report describes the stored values.
 Result parameterize(const Positions& V, const Triangles& F, const Options& options = {});
 
 // The disk pipeline alone (connectivity, weights, boundary, solve, refinement): the layout at the
 // mesh's natural scale (3D units) in double, one texture coordinate per vertex, with its
-// measures; options.fit_unit_square and options.storage are not applied (store() does that,
-// e.g. for an atlas over all its charts at once). The progress callback gets every stage but
-// the last ("storage", "done").
+// measures; options.storage is not applied (store() does that, e.g. for an atlas over all its
+// charts at once). The progress callback gets every stage but the last ("storage", "done").
 Result flattenDisk(const Positions& V, const Triangles& F, const Options& options = {});
 
 }  // namespace sdp

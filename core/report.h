@@ -72,8 +72,8 @@ struct Report {
   int ears_unfolded = 0;  // measured boundary: ear apexes placed with their own shape (boundary.h)
   int unreferenced_vertices = 0;
   int holes_filled = 0;  // inner boundary loops filled virtually for the solve
-  // The UVs as stored (Options::storage): l2/linf/flips above describe them. Faces that rounding
-  // would have flipped or collapsed, and the vertices moved to keep them one-to-one.
+  // The UVs as stored (Options::storage.precision): l2/linf/flips above describe them. Faces that
+  // rounding would have flipped or collapsed, and the vertices moved to keep them one-to-one.
   std::string storage = "double";
   int storage_degenerate_faces = 0;
   int storage_moved_vertices = 0;
