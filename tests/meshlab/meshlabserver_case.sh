@@ -1,18 +1,31 @@
 #!/usr/bin/env bash
-# One meshlabserver (MeshLab 2020.09) run of resources/straightest_param.mlx under Xvfb, with the
+# One meshlabserver (MeshLab 2020.09) run of one of our filters' .mlx scripts under Xvfb, with the
 # plugin from a private prefix (scripts/make-meshlab-prefix.sh), and its check.
 #
-# usage: meshlabserver_case.sh PREFIX MLX MESH WORKDIR BOUNDARY expect-success|expect-failure PYTHON
-#                               [STRETCH_ITERATIONS [MAX_L2]]
+# usage: meshlabserver_case.sh patch|atlas PREFIX MLX MESH WORKDIR expect-success|expect-failure
+#                               PYTHON [NAME=VALUE ...] [--max-l2 L2]
+#   patch|atlas:    which filter MLX runs (resources/straightest_param.mlx or
+#                   straightest_atlas.mlx): the log lines and checks that belong to it
+#   NAME=VALUE:     sets the script's parameter NAME (e.g. boundary=1, stretchiterations=10)
 #   expect-success: exit 0, OBJ with per-wedge UVs, 0 flipped faces recomputed from the file,
-#                   the .mtl texture exists, L2 in the log = L2 of the file (check_obj_uv.py)
+#                   the .mtl texture exists, L2 (and the atlas's charts) in the log = the file's
+#                   (check_obj_uv.py), L2 at most L2 when given
 #   expect-failure: non-zero exit, no output file, and the reason printed: our filter's log
-#                   line "Parametrization: Straightest Distances: <reason>", or MeshLab's own
-#                   loader refusing a file it cannot read.
+#                   line "<filter's name>: <reason>", or MeshLab's own loader refusing a file it
+#                   cannot read.
 set -uo pipefail
 
-prefix=$1 mlx=$2 mesh=$3 workdir=$4 boundary=$5 expect=$6 python=$7 stretch=${8:-0} max_l2=${9:-}
+filter=$1 prefix=$2 mlx=$3 mesh=$4 workdir=$5 expect=$6 python=$7
+shift 7
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+
+case "$filter" in
+  patch) report_line="Straightest distances:" name="Parametrization: Straightest Distances"
+         check=() ;;
+  atlas) report_line="Straightest distances atlas:"
+         name="Parametrization: Straightest Distances Atlas" check=(--atlas) ;;
+  *) echo "FAIL: unknown filter '$filter' (patch or atlas)"; exit 1 ;;
+esac
 
 rm -rf "$workdir"
 mkdir -p "$workdir"
@@ -22,11 +35,19 @@ input="$workdir/$(basename "$mesh")"
 output="$workdir/out.obj"
 script="$workdir/script.mlx"
 log="$workdir/meshlabserver.log"
-sed "s/name=\"boundary\" value=\"[0-9]*\"/name=\"boundary\" value=\"$boundary\"/" "$mlx" >"$script"
-grep -q "name=\"boundary\" value=\"$boundary\"" "$script" || { echo "FAIL: cannot set boundary"; exit 1; }
-sed -i "s/name=\"stretchiterations\" value=\"[0-9]*\"/name=\"stretchiterations\" value=\"$stretch\"/" "$script"
-grep -q "name=\"stretchiterations\" value=\"$stretch\"" "$script" ||
-  { echo "FAIL: cannot set stretchiterations"; exit 1; }
+cp "$mlx" "$script"
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --max-l2) check+=(--max-l2 "$2"); shift 2 ;;
+    *=*)
+      param=${1%%=*} value=${1#*=}
+      sed -i "s/name=\"$param\" value=\"[^\"]*\"/name=\"$param\" value=\"$value\"/" "$script"
+      grep -q "name=\"$param\" value=\"$value\"" "$script" ||
+        { echo "FAIL: cannot set $param in $mlx"; exit 1; }
+      shift ;;
+    *) echo "FAIL: unknown argument '$1'"; exit 1 ;;
+  esac
+done
 
 xvfb-run -a -s "-screen 0 1024x768x24" "$prefix/bin/meshlabserver" \
   -i "$input" -o "$output" -m wt -s "$script" >"$log" 2>&1
@@ -37,14 +58,14 @@ echo "meshlabserver exit status: $status"
 if [[ "$expect" == expect-success ]]; then
   [[ $status -eq 0 ]] || { echo "FAIL: meshlabserver failed"; exit 1; }
   [[ -f "$output" ]] || { echo "FAIL: no $output"; exit 1; }
-  grep -q "Straightest distances:" "$log" || { echo "FAIL: the filter's report is not in the log"; exit 1; }
-  exec "$python" "$here/check_obj_uv.py" "$output" --log "$log" ${max_l2:+--max-l2 "$max_l2"}
+  grep -q "$report_line" "$log" || { echo "FAIL: the filter's report is not in the log"; exit 1; }
+  exec "$python" "$here/check_obj_uv.py" "$output" --log "$log" "${check[@]}"
 fi
 
 [[ $status -ne 0 ]] || { echo "FAIL: meshlabserver succeeded on an invalid mesh"; exit 1; }
 [[ ! -e "$output" ]] || { echo "FAIL: an output file was written"; exit 1; }
-if grep -Eq "Parametrization: Straightest Distances: .+" "$log"; then
-  echo "PASS: reason: $(grep -Eo 'Parametrization: Straightest Distances: .+' "$log" | head -n1)"
+if grep -Eq "$name: .+" "$log"; then
+  echo "PASS: reason: $(grep -Eo "$name: .+" "$log" | head -n1)"
 elif grep -q "Failed loading" "$log"; then
   echo "PASS: MeshLab's loader refused the file before the filter ran"
 else
