@@ -54,7 +54,7 @@ struct AtlasReport {
   int inconsistent_edges = 0;                             // edges where orientation flips: cut
   int zero_area_faces = 0;                                // charted alone, left out of the stretch
   int chart_fallbacks = 0;  // the patch pipeline's fallbacks, over all charts
-  int charts_split = 0;     // charts refined into smaller ones for stretch or disk shape
+  int charts_split = 0;     // charts refined into smaller ones for stretch, disk shape or packing
   std::string storage = "double";
   int storage_degenerate_faces = 0, storage_moved_vertices = 0;
   double refinement_work = 0;  // over all charts, as a multiple of their linear maps' work

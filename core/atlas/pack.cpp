@@ -37,6 +37,22 @@ std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points) {
   return hull;
 }
 
+// The corners of the axis-aligned rectangle around `points`, each first turned by `turn`.
+struct Bounds {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high = -low;
+  Eigen::Vector2d extent() const { return high - low; }
+};
+Bounds boundsOf(const std::vector<Eigen::Vector2d>& points,
+                const Eigen::Matrix2d& turn = Eigen::Matrix2d::Identity()) {
+  Bounds b;
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2d q = turn * p;
+    b.low = b.low.cwiseMin(q), b.high = b.high.cwiseMax(q);
+  }
+  return b;
+}
+
 Eigen::Matrix2d rotationBy(double angle) {
   Eigen::Matrix2d r;
   r << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
@@ -53,13 +69,7 @@ Eigen::Matrix2d smallestBoxRotation(const std::vector<Eigen::Vector2d>& uv) {
     const Eigen::Vector2d e = hull[(i + 1) % hull.size()] - hull[i];
     if (e.squaredNorm() == 0) continue;
     const Eigen::Matrix2d r = rotationBy(-std::atan2(e.y(), e.x()));
-    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
-    Eigen::Vector2d high = -low;
-    for (const Eigen::Vector2d& p : hull) {
-      const Eigen::Vector2d q = r * p;
-      low = low.cwiseMin(q), high = high.cwiseMax(q);
-    }
-    const Eigen::Vector2d size = high - low;
+    const Eigen::Vector2d size = boundsOf(hull, r).extent();
     if (size.x() * size.y() < best_area * (1 - 1e-9)) {
       best_area = size.x() * size.y();
       best = size.x() >= size.y() ? r : Eigen::Matrix2d(rotationBy(M_PI / 2) * r);
@@ -109,9 +119,7 @@ Footprint footprint(const std::vector<Eigen::Vector2d>& p,
                     int size) {
   Footprint fp;
   fp.reach = reach;
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
-  Eigen::Vector2d high = -low;
-  for (const Eigen::Vector2d& q : p) low = low.cwiseMin(q), high = high.cwiseMax(q);
+  const auto [low, high] = boundsOf(p);
   // Larger than the texture (or not finite): it cannot be placed, and is not rastered.
   const Eigen::Vector2d extent = high - low;
   if (!(extent.maxCoeff() < size)) {
@@ -266,6 +274,20 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
 
 }  // namespace
 
+double uvArea(const std::vector<Eigen::Vector2d>& uv,
+              const std::vector<std::array<int, 3>>& triangles) {
+  double area = 0;
+  for (const auto& t : triangles) area += 0.5 * std::abs(cross(uv[t[0]], uv[t[1]], uv[t[2]]));
+  return area;
+}
+
+double boxFill(const std::vector<Eigen::Vector2d>& uv,
+               const std::vector<std::array<int, 3>>& triangles) {
+  if (uv.size() < 3) return 0;
+  const double box = boundsOf(uv, smallestBoxRotation(uv)).extent().prod();
+  return box > 0 ? uvArea(uv, triangles) / box : 0;
+}
+
 Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& options) {
   Packing packing;
   const int n = static_cast<int>(charts.size());
@@ -276,8 +298,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
   double total = 0;
   for (int c = 0; c < n; ++c) {
     box[c] = smallestBoxRotation(charts[c].uv);
-    for (const auto& t : charts[c].triangles)
-      area[c] += 0.5 * std::abs(cross(charts[c].uv[t[0]], charts[c].uv[t[1]], charts[c].uv[t[2]]));
+    area[c] = uvArea(charts[c].uv, charts[c].triangles);
     total += area[c];
   }
   // Largest first; ties by index, so the same order on every run.
@@ -297,13 +318,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
   // No chart can be longer than the texture: the first try is below that, not found by halving.
   double longest = 0;
   for (int c = 0; c < n; ++c) {
-    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
-    Eigen::Vector2d high = -low;
-    for (const Eigen::Vector2d& q : charts[c].uv) {
-      const Eigen::Vector2d r = box[c] * q;
-      low = low.cwiseMin(r), high = high.cwiseMax(r);
-    }
-    longest = std::max(longest, (high - low).maxCoeff());
+    longest = std::max(longest, boundsOf(charts[c].uv, box[c]).extent().maxCoeff());
   }
   double scale = 0.85 * full;
   if (longest > 0 && scale * longest > size - 2) scale = (size - 2) / longest;

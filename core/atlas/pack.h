@@ -45,6 +45,15 @@ struct PackOptions {
   double shrink = 1.0;
 };
 
+// The area the triangles cover in the plane (each counted positive).
+double uvArea(const std::vector<Eigen::Vector2d>& uv,
+              const std::vector<std::array<int, 3>>& triangles);
+
+// The chart's area over the area of its smallest bounding rectangle (0 when it has none): how
+// much of the room it asks for in a packing it fills.
+double boxFill(const std::vector<Eigen::Vector2d>& uv,
+               const std::vector<std::array<int, 3>>& triangles);
+
 // Throws ParameterizationError when the charts cannot fit at any scale above a texel per chart
 // (more charts than the texture can hold).
 Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& options);
