@@ -307,22 +307,36 @@ std::string valuesText(const ParameterDescription& p) {
 
 }  // namespace
 
+namespace {
+
+std::string parameterTable(const std::vector<ParameterDescription>& list) {
+  std::string out = "| `.mlx` / pymeshlab | CLI | default | values | what it does |\n";
+  out += "| --- | --- | --- | --- | --- |\n";
+  for (const ParameterDescription& p : list) {
+    out += "| " + (p.inMeshLab() ? code(p.name) : "—") + " | " +
+           (p.inCli() ? code(p.cli_flag + (p.cli_value.empty() ? "" : " " + p.cli_value)) : "—") +
+           " | " + defaultText(p) + " | " + valuesText(p) + " | " + p.help + " |\n";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string markdownTable(const std::string& which) {
-  std::string out;
-  if (which == "parameters") {
-    out += "| `.mlx` / pymeshlab | CLI | default | values | what it does |\n";
-    out += "| --- | --- | --- | --- | --- |\n";
-    for (const ParameterDescription& p : parameters()) {
-      out += "| " + (p.inMeshLab() ? code(p.name) : "—") + " | " +
-             (p.inCli() ? code(p.cli_flag + (p.cli_value.empty() ? "" : " " + p.cli_value)) : "—") +
-             " | " + defaultText(p) + " | " + valuesText(p) + " | " + p.help + " |\n";
-    }
-  } else if (which == "report") {
-    out += "| key | in the pymeshlab dict and the log line | meaning |\n";
-    out += "| --- | --- | --- |\n";
-    for (const sdp::ReportField& f : sdp::reportFields()) {
+  const std::string header =
+      "| key | in the pymeshlab dict and the log line | meaning |\n"
+      "| --- | --- | --- |\n";
+  if (which == "parameters") return parameterTable(parameters());
+  if (which == "atlas-parameters") return parameterTable(atlasParameters());
+  std::string out = header;
+  if (which == "report") {
+    for (const sdp::ReportField& f : sdp::reportFields())
       out += "| " + code(f.key) + " | " + (f.summary ? "yes" : "") + " | " + f.meaning + " |\n";
-    }
+  } else if (which == "atlas-report") {
+    for (const sdp::atlas::AtlasSummaryField& f : sdp::atlas::atlasSummaryFields())
+      out += "| " + code(f.key) + " | yes | " + f.meaning + " |\n";
+    for (const sdp::atlas::AtlasDetailField& f : sdp::atlas::atlasDetailFields())
+      out += "| " + code(f.key) + " |  | " + f.meaning + " |\n";
   } else {
     throw ParameterizationError("no table named " + which);
   }

@@ -97,7 +97,7 @@ std::vector<std::string> reportLines(const sdp::Report& report,
 std::string currentFailureReason();
 
 // The README's tables in Markdown, generated from the tables above (tests/docs checks that the
-// README holds them): "parameters" and "report".
+// README holds them): "parameters", "report", "atlas-parameters" and "atlas-report".
 std::string markdownTable(const std::string& which);
 
 // The atlas filter (core/atlas/atlas.h): its own names and parameter table, so the patch

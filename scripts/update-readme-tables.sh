@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Rewrites README.md's parameter and report tables from the filter's definition
-# (filter_straightest_param/filter_definition.cpp, core/report.cpp). The test suite's
-# readme_tables test fails until they match.
+# Rewrites README.md's parameter and report tables (patch and atlas filters) from their
+# definitions (filter_straightest_param/filter_definition.cpp, core/report.cpp,
+# core/atlas/atlas.cpp). The test suite's readme_tables test fails until they match.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${BUILD_DIR:-build}"

@@ -452,6 +452,77 @@ const std::vector<AtlasSummaryField>& atlasSummaryFields() {
   return fields;
 }
 
+const std::vector<AtlasDetailField>& atlasDetailFields() {
+  using namespace json;
+  using R = const AtlasReport&;
+  static const std::vector<AtlasDetailField> fields = {
+      {"vertices", "vertices of the mesh", [](R r) { return jsonInt(r.vertices); }},
+      {"faces", "faces of the mesh (polygons fan-triangulated)",
+       [](R r) { return jsonInt(r.faces); }},
+      {"components", "pieces joined across manifold, consistently oriented edges",
+       [](R r) { return jsonInt(r.components); }},
+      {"texels_per_unit", "the one texel density of every chart, texels per unit of 3D length",
+       [](R r) { return jsonNumber(r.texels_per_unit); }},
+      {"texture_size", "texture width and height the charts were packed for, texels",
+       [](R r) { return jsonInt(r.texture_size); }},
+      {"gutter", "texels kept free between charts at that size",
+       [](R r) { return jsonInt(r.gutter); }},
+      {"non_manifold_edges",
+       "edges of more than two faces: chart borders (the mesh is not changed)",
+       [](R r) { return jsonInt(r.non_manifold_edges); }},
+      {"non_manifold_vertices", "vertices whose faces form more than one fan: split per fan",
+       [](R r) { return jsonInt(r.non_manifold_vertices); }},
+      {"inconsistent_edges", "edges whose two faces are oriented against each other: cut",
+       [](R r) { return jsonInt(r.inconsistent_edges); }},
+      {"zero_area_faces",
+       "faces of zero area or a repeated vertex: a chart each, a positive-area UV triangle, left "
+       "out of the stretch",
+       [](R r) { return jsonInt(r.zero_area_faces); }},
+      {"chart_fallbacks", "the patch pipeline's fallbacks, summed over the charts",
+       [](R r) { return jsonInt(r.chart_fallbacks); }},
+      {"charts_split",
+       "charts split in two again: stretch above `chartstretch`, refused by the patch pipeline, "
+       "or large and filling under 0.6 of their bounding rectangle",
+       [](R r) { return jsonInt(r.charts_split); }},
+      {"refinement_work", "the charts' refinement work over their linear maps' work",
+       [](R r) { return jsonNumber(r.refinement_work); }},
+      {"storage", "precision the UVs are stored and certified in",
+       [](R r) { return jsonString(r.storage); }},
+      {"storage_degenerate_faces", "faces that rounding to that precision would have collapsed",
+       [](R r) { return jsonInt(r.storage_degenerate_faces); }},
+      {"storage_moved_vertices", "UVs the storage repair moved",
+       [](R r) { return jsonInt(r.storage_moved_vertices); }},
+      {"stage_seconds", "seconds per stage, in run order",
+       [](R r) {
+         std::vector<std::pair<std::string, std::string>> stages;
+         for (const auto& [stage, seconds] : r.stage_seconds)
+           stages.emplace_back(stage, jsonNumber(seconds));
+         return jsonObject(stages);
+       }},
+      {"warnings", "one line per fallback or notice",
+       [](R r) { return jsonList(r.warnings, jsonString); }},
+      {"notes", "what was done that needs no action",
+       [](R r) { return jsonList(r.notes, jsonString); }},
+      {"chart_table",
+       "per chart: `faces`, 3D `area`, `l2_stretch`, `linf_stretch`, `boundary_used`, `fallbacks`",
+       [](R r) {
+         std::string table = "[";
+         for (size_t c = 0; c < r.chart_table.size(); ++c) {
+           const ChartReport& t = r.chart_table[c];
+           table += std::string(c ? ",\n    " : "\n    ") +
+                    jsonObject({{"faces", jsonInt(t.faces)},
+                                {"area", jsonNumber(t.area)},
+                                {"l2_stretch", jsonNumber(t.l2_stretch)},
+                                {"linf_stretch", jsonNumber(t.linf_stretch)},
+                                {"boundary_used", jsonString(t.boundary_used)},
+                                {"fallbacks", jsonInt(t.fallbacks)}});
+         }
+         return table + (r.chart_table.empty() ? "]" : "\n  ]");
+       }},
+  };
+  return fields;
+}
+
 std::string AtlasReport::toJson() const {
   using namespace json;
   std::vector<std::pair<std::string, std::string>> m;
@@ -459,44 +530,8 @@ std::string AtlasReport::toJson() const {
     const double value = field.number(*this);
     m.emplace_back(field.key, field.integer ? jsonInt(static_cast<int>(value)) : jsonNumber(value));
   }
-  const std::vector<std::pair<std::string, std::string>> rest = {
-      {"vertices", jsonInt(vertices)},
-      {"faces", jsonInt(faces)},
-      {"components", jsonInt(components)},
-      {"texels_per_unit", jsonNumber(texels_per_unit)},
-      {"texture_size", jsonInt(texture_size)},
-      {"gutter", jsonInt(gutter)},
-      {"non_manifold_edges", jsonInt(non_manifold_edges)},
-      {"non_manifold_vertices", jsonInt(non_manifold_vertices)},
-      {"inconsistent_edges", jsonInt(inconsistent_edges)},
-      {"zero_area_faces", jsonInt(zero_area_faces)},
-      {"chart_fallbacks", jsonInt(chart_fallbacks)},
-      {"charts_split", jsonInt(charts_split)},
-      {"refinement_work", jsonNumber(refinement_work)},
-      {"storage", jsonString(storage)},
-      {"storage_degenerate_faces", jsonInt(storage_degenerate_faces)},
-      {"storage_moved_vertices", jsonInt(storage_moved_vertices)},
-  };
-  m.insert(m.end(), rest.begin(), rest.end());
-  std::vector<std::pair<std::string, std::string>> stages;
-  for (const auto& [stage, seconds] : stage_seconds)
-    stages.emplace_back(stage, jsonNumber(seconds));
-  m.emplace_back("stage_seconds", jsonObject(stages));
-  m.emplace_back("warnings", jsonList(warnings, jsonString));
-  m.emplace_back("notes", jsonList(notes, jsonString));
-  std::string table = "[";
-  for (size_t c = 0; c < chart_table.size(); ++c) {
-    const ChartReport& t = chart_table[c];
-    table += std::string(c ? ",\n    " : "\n    ") +
-             jsonObject({{"faces", jsonInt(t.faces)},
-                         {"area", jsonNumber(t.area)},
-                         {"l2_stretch", jsonNumber(t.l2_stretch)},
-                         {"linf_stretch", jsonNumber(t.linf_stretch)},
-                         {"boundary_used", jsonString(t.boundary_used)},
-                         {"fallbacks", jsonInt(t.fallbacks)}});
-  }
-  table += chart_table.empty() ? "]" : "\n  ]";
-  m.emplace_back("chart_table", table);
+  for (const AtlasDetailField& field : atlasDetailFields())
+    m.emplace_back(field.key, field.json(*this));
   std::ostringstream o;
   o << "{\n";
   for (size_t i = 0; i < m.size(); ++i)

@@ -77,6 +77,14 @@ struct AtlasSummaryField {
 };
 const std::vector<AtlasSummaryField>& atlasSummaryFields();
 
+// The JSON report's other keys, after the summary's, in this order.
+struct AtlasDetailField {
+  const char* key;
+  const char* meaning;  // for the README
+  std::string (*json)(const AtlasReport&);
+};
+const std::vector<AtlasDetailField>& atlasDetailFields();
+
 struct AtlasResult {
   Layout layout;                     // per corner, seams split; layout.chart per face
   std::vector<double> face_stretch;  // per face, normalized L2 over the whole atlas

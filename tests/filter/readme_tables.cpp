@@ -1,6 +1,7 @@
 // Checks or rewrites the README blocks generated from the filter's definition:
 //   <!-- table:parameters --> ... <!-- /table:parameters -->
 //   <!-- table:report --> ... <!-- /table:report -->
+//   <!-- table:atlas-parameters --> ... and <!-- table:atlas-report --> ...
 // Usage: readme_tables README.md --check|--write. Exit 1 (with the reason) when --check finds a
 // block missing or different.
 #include <fstream>
@@ -26,7 +27,7 @@ int main(int argc, char** argv) {
   buffer << in.rdbuf();
   std::string text = buffer.str();
   int problems = 0;
-  for (const std::string name : {"parameters", "report"}) {
+  for (const std::string name : {"parameters", "report", "atlas-parameters", "atlas-report"}) {
     const std::string begin = "<!-- table:" + name + " -->\n";
     const std::string end = "<!-- /table:" + name + " -->";
     const size_t a = text.find(begin);
