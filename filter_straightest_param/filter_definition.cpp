@@ -305,10 +305,6 @@ std::string valuesText(const ParameterDescription& p) {
   return "";
 }
 
-}  // namespace
-
-namespace {
-
 std::string parameterTable(const std::vector<ParameterDescription>& list) {
   std::string out = "| `.mlx` / pymeshlab | CLI | default | values | what it does |\n";
   out += "| --- | --- | --- | --- | --- |\n";
@@ -323,12 +319,11 @@ std::string parameterTable(const std::vector<ParameterDescription>& list) {
 }  // namespace
 
 std::string markdownTable(const std::string& which) {
-  const std::string header =
-      "| key | in the pymeshlab dict and the log line | meaning |\n"
-      "| --- | --- | --- |\n";
   if (which == "parameters") return parameterTable(parameters());
   if (which == "atlas-parameters") return parameterTable(atlasParameters());
-  std::string out = header;
+  std::string out =
+      "| key | in the pymeshlab dict and the log line | meaning |\n"
+      "| --- | --- | --- |\n";
   if (which == "report") {
     for (const sdp::ReportField& f : sdp::reportFields())
       out += "| " + code(f.key) + " | " + (f.summary ? "yes" : "") + " | " + f.meaning + " |\n";

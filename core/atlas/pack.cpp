@@ -37,12 +37,13 @@ std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points) {
   return hull;
 }
 
-// The corners of the axis-aligned rectangle around `points`, each first turned by `turn`.
+// An axis-aligned rectangle, by its lowest and highest corners.
 struct Bounds {
   Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
   Eigen::Vector2d high = -low;
   Eigen::Vector2d extent() const { return high - low; }
 };
+// The rectangle around `points`, each first turned by `turn`.
 Bounds boundsOf(const std::vector<Eigen::Vector2d>& points,
                 const Eigen::Matrix2d& turn = Eigen::Matrix2d::Identity()) {
   Bounds b;

@@ -351,8 +351,9 @@ def render_stats(path, box):
 
 
 def shows_checkerboard(s):
-    # Red: the grid lines are one texel wide, so their share of the view falls as a texture is
-    # shared by more charts (the torus's 15-chart atlas: 0.19 %); the view shows none before.
+    # Red: the grid lines are one texel wide, thinner than a screen pixel at this zoom, so the
+    # share that stays red follows the texel density (the torus's 15-chart atlas: 0.19 %); the
+    # view shows none before Apply.
     return (s["dark"] >= 0.03 and s["light"] >= 0.03 and s["red"] >= 0.001
             and s["alternations"] >= 800)
 
