@@ -60,6 +60,9 @@ class StageClock {
 
 constexpr double kFewRefinementSteps = 6;
 constexpr double kFastStretchExponent = 1.0;
+// The share of a limited refinement budget reweighting may use before the grid's Newton steps
+// (one step at face s2 and s3; docs/measurements.md).
+constexpr double kReweightShareBeforeGrid = 0.2;
 
 // Validates a user-given source vertex; returns its local index (or -1 when none was given).
 int userSource(const Patch& patch, int input_vertices, int source, bool needs_interior) {
@@ -251,10 +254,15 @@ class Pipeline {
     refine_start_ = Clock::now();
     if (options_.refine_work_factor > 0)
       budget_work_ = std::max(options_.refine_min_work, options_.refine_work_factor * linear_work_);
-    const RefineBudget reweighting = newBudget();
+    RefineBudget reweighting = newBudget();
+    // Where the grid's Newton steps run, they gain more per unit of work than reweighting
+    // after its first step or two: reweighting gets a share of a limited budget.
+    const bool shared = gridStepsRun() && std::isfinite(budget_work_);
+    if (shared) reweighting.work_limit = kReweightShareBeforeGrid * budget_work_;
     reweight(reweighting);
     clock_.addWork(Stage::Refine, refine_meter_.spent);
-    noteStop(reweighting);
+    // Its share spent, reweighting hands over: the later stages say why refinement stopped.
+    if (!(shared && reweighting.stop == RefineStop::WorkBudget)) noteStop(reweighting);
     report().l2_stretch_fixed_boundary = metrics_.l2;
     // Only the measured boundary is let go: it stands for the patch's own outline, which this
     // refines; a circle or square is a shape the user asked for (and it stays after a fallback
@@ -382,6 +390,13 @@ class Pipeline {
     clock_.addWork(stage, work);
   }
 
+  // Whether the Newton stage starts with the coarse grid's steps (stretch_newton.h).
+  bool gridStepsRun() const {
+    return options_.free_boundary && options_.boundary == BoundaryShape::Measured &&
+           stretchNewtonIsMatrixFree(patch_.real_vertex_count) &&
+           StretchNewtonSettings().grid_max_steps > 0;
+  }
+
   static bool outOfBudget(RefineStop stop) {
     return stop == RefineStop::WorkBudget || stop == RefineStop::TimeLimit;
   }
@@ -446,8 +461,11 @@ class Pipeline {
     arap.step_work = 3 * reweighting.step_work;
     arap.step_seconds = 3 * reweighting.step_seconds;
     double spent = refine_meter_.spent;
-    uv_ = relaxWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_, counts,
-                                progress_, arap);
+    // The grid's Newton steps make the large moves ARAP was there for, towards the stretch's
+    // own optimum rather than ARAP's: ARAP first cost 2.7 s and ended higher on face s2
+    // (docs/measurements.md).
+    const int arap_steps = gridStepsRun() ? 0 : options_.stretch_iterations;
+    uv_ = relaxWithFreeBoundary(patch_, uv_, arap_steps, metrics_, counts, progress_, arap);
     noteStop(arap);
     clock_.addWork(Stage::FreeBoundary, refine_meter_.spent - spent);
     clock_.end();
@@ -455,11 +473,12 @@ class Pipeline {
     spent = refine_meter_.spent;
     StretchNewtonCounts newton;
     const RefineBudget newton_budget = newBudget();
-    // Without the sparse factor a Newton step costs about three reweighting solves (1.9 vs
-    // 0.65 s at 414k vertices, 8 vs 2.7 s at 1.65M): not set up when it would overrun.
+    // Without the sparse factor the first steps are the grid's: not started when one would
+    // overrun.
     if (stretchNewtonIsMatrixFree(patch_.real_vertex_count)) {
-      newton_budget.step_work = 3 * reweighting.step_work;
-      newton_budget.step_seconds = 3 * reweighting.step_seconds;
+      newton_budget.step_work = gridNewtonStepWork(patch_.real_face_count);
+      newton_budget.step_seconds =
+          reweighting.step_seconds * newton_budget.step_work / std::max(reweighting.step_work, 1.0);
     }
     uv_ = minimizeStretchWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_,
                                           newton, progress_, newton_budget);

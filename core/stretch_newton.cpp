@@ -1,132 +1,27 @@
 #include "stretch_newton.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <new>
 #include <optional>
+#include <utility>
 
 #include "checked_descent.h"
 #include "free_boundary.h"
 #include "geometry.h"
+#include "grid_newton.h"
 #include "linear/block_multigrid.h"
 #include "linear/krylov.h"
 #include "linear/solve_path.h"
 #include "parallel.h"
+#include "stretch_terms.h"
 #include "work.h"
 
 namespace sdp {
+
 namespace {
-
-// J = sum_k uv_k g_k^T over the corners k: the gradients g_k of the corners' hat functions in
-// the flat 3D triangle.
-struct FaceFrame {
-  std::array<Eigen::Vector2d, 3> g;
-  double area = 0;  // 3D area; 0 for a face without one (it then adds nothing)
-};
-
-FaceFrame faceFrame(const Patch& patch, int f, double tiny_area) {
-  const std::array<Eigen::Vector2d, 3> x = flatTriangle(patch, f);
-  FaceFrame frame;
-  const double twice_area = x[1].x() * x[2].y();
-  if (!(0.5 * twice_area > tiny_area)) {
-    for (auto& g : frame.g) g.setZero();
-    return frame;
-  }
-  Eigen::Matrix2d edges;  // columns: the two edges from corner 0, laid flat
-  edges << x[1], x[2];
-  const Eigen::Matrix2d inverse = edges.inverse();
-  frame.g[1] = inverse.row(0).transpose();
-  frame.g[2] = inverse.row(1).transpose();
-  frame.g[0] = -frame.g[1] - frame.g[2];
-  frame.area = 0.5 * twice_area;
-  return frame;
-}
-
-// (a, b, c, d) = J row by row: u's gradient, then v's.
-Eigen::Vector4d jacobian(const FaceFrame& frame, const std::array<int, 3>& t, const LocalUVs& uv) {
-  Eigen::Vector4d J = Eigen::Vector4d::Zero();
-  for (int k = 0; k < 3; ++k) {
-    J.head<2>() += uv[t[k]].x() * frame.g[k];
-    J.tail<2>() += uv[t[k]].y() * frame.g[k];
-  }
-  return J;
-}
-
-double determinant(const Eigen::Vector4d& J) {
-  return J[0] * J[3] - J[1] * J[2];
-}
-
-// Q = sum A |J|^2 / det^2 and S = sum A det; Q * S is the scale-invariant energy (+inf when a
-// face with area has collapsed or flipped).
-struct Energy {
-  double Q = 0, S = 0;
-  double value() const { return Q * S; }
-};
-
-Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const LocalUVs& uv) {
-  Energy e;
-  for (int f = 0; f < patch.real_face_count; ++f) {
-    if (frames[f].area == 0) continue;
-    const Eigen::Vector4d J = jacobian(frames[f], patch.face[f], uv);
-    const double det = determinant(J);
-    if (!(det > 0)) return {std::numeric_limits<double>::infinity(), 1.0};
-    e.Q += frames[f].area * J.squaredNorm() / (det * det);
-    e.S += frames[f].area * det;
-  }
-  return e;
-}
-
-// The largest t for which no face's signed UV area reaches zero along uv + t d.
-double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d) {
-  double limit = std::numeric_limits<double>::infinity();
-  for (int f = 0; f < patch.real_face_count; ++f) {
-    const auto& t = patch.face[f];
-    const Eigen::Vector2d p0 = uv[t[1]] - uv[t[0]], p1 = uv[t[2]] - uv[t[0]];
-    const Eigen::Vector2d d0 = d[t[1]] - d[t[0]], d1 = d[t[2]] - d[t[0]];
-    // area(t) ~ qc + qb t + qa t^2
-    const double qa = cross2(d0, d1), qb = cross2(p0, d1) + cross2(d0, p1), qc = cross2(p0, p1);
-    auto consider = [&](double root) {
-      if (root > 0 && std::isfinite(root)) limit = std::min(limit, root);
-    };
-    if (qa == 0) {
-      if (qb != 0) consider(-qc / qb);
-      continue;
-    }
-    const double disc = qb * qb - 4 * qa * qc;
-    if (disc < 0) continue;
-    // Roots without cancellation: q = -(qb + sign(qb) sqrt(disc)) / 2, roots q / qa and qc / q.
-    const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
-    consider(q / qa);
-    if (q != 0) consider(qc / q);
-  }
-  return limit;
-}
-
-// One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
-// dJ of Q * S and the Hessian h of S * Q (the term that bends; S's own curvature and the cross
-// terms dQ dS^T are left out, as the energy is scale-invariant and each step is rescaled: a
-// positive definite approximation, so the step still descends), made positive semi-definite.
-void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
-                     Eigen::Vector4d& dJ, Eigen::Matrix4d& h) {
-  const double det = determinant(J), fro = J.squaredNorm();
-  const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
-  const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
-  dJ = frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
-  h = (2 / q2) * Eigen::Matrix4d::Identity() -
-      (4 / q3) * (J * cof.transpose() + cof * J.transpose()) +
-      (6 * fro / q4) * cof * cof.transpose();
-  h(0, 3) -= 2 * fro / q3;
-  h(3, 0) -= 2 * fro / q3;
-  h(1, 2) += 2 * fro / q3;
-  h(2, 1) += 2 * fro / q3;
-  h *= energy.S * frame.area;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
-  const Eigen::Vector4d clamped = eigen.eigenvalues().cwiseMax(1e-8 * energy.S * frame.area / q2);
-  h = eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
-}
 
 // The Newton system at `uv` assembled for the sparse factor; u and v of vertex i at 2i and
 // 2i + 1.
@@ -390,38 +285,58 @@ bool rescaleToArea(LocalUVs& map, int n, double total_area, Energy& e) {
   return true;
 }
 
-// The Newton direction at a map: by the sparse factor (its pattern analysed once) or by
-// conjugate gradients on the assembled blocks (linear/solve_path.h decides which), its work
-// charged to the descent.
+// The Newton direction at a map: on a large patch first in the grid's coarse space
+// (GridNewtonSystem), then by the sparse factor or by conjugate gradients on the assembled blocks
+// (linear/solve_path.h decides which), its work charged to the descent.
 class NewtonDirection {
  public:
   NewtonDirection(const Patch& patch, const std::vector<FaceFrame>& frames,
-                  const StretchNewtonSettings& settings, const RefineBudget& budget)
+                  const StretchNewtonSettings& settings)
       : patch_(patch),
         frames_(frames),
         settings_(settings),
         n_(patch.real_vertex_count),
-        direct_(!stretchNewtonIsMatrixFree(n_, settings)) {
-    if (direct_) {
-      H_.resize(2 * n_, 2 * n_);
-    } else {
-      matrix_free_.emplace(patch, frames);
-      budget.charge(matrix_free_->spentWork());
-    }
+        direct_(!stretchNewtonIsMatrixFree(n_, settings)),
+        grid_phase_(!direct_ && settings.grid_max_steps > 0) {
+    if (direct_) H_.resize(2 * n_, 2 * n_);
+    if (grid_phase_) grid_.emplace(patch, frames, settings.grid);
     gradient.resize(2 * n_);
     direction.resize(2 * n_);
   }
 
-  // gradient and direction at `current` (whose energy is `energy`); false when there is none.
+  bool inGridPhase() const { return grid_phase_; }
+  // After a step was taken (CheckedDescent::Outcome's halvings after the capped length).
+  void adapt(double length, int halvings) {
+    if (grid_) grid_->adapt(length, halvings);
+  }
+  void leaveGridPhase() {
+    grid_phase_ = false;
+    grid_.reset();
+  }
+
+  // direction at `current` (whose energy is `energy`) and the energy's slope along it; false
+  // when there is none.
   bool compute(const LocalUVs& current, const Energy& energy, CheckedDescent& descent,
-               StretchNewtonCounts& counts) {
+               StretchNewtonCounts& counts, double& slope) {
+    if (grid_phase_) {
+      const bool usable = grid_->solve(current, energy, direction);
+      descent.addWork(grid_->lastWork());
+      slope = grid_->slope();
+      ++counts.grid_steps;
+      return usable && direction.allFinite();
+    }
     if (!direct_) {
+      if (!matrix_free_) {
+        matrix_free_.emplace(patch_, frames_);
+        descent.addWork(matrix_free_->spentWork());
+      }
       const double before = matrix_free_->spentWork();
       const bool usable = matrix_free_->update(current, energy, gradient);
       if (usable)
         counts.cg_iterations += matrix_free_->solve(gradient, direction, settings_.cg_tolerance,
                                                     settings_.cg_max_iterations);
       descent.addWork(matrix_free_->spentWork() - before);
+      slope = gradient.dot(direction);
       return usable && direction.allFinite();
     }
     assembleNewtonSystem(patch_, frames_, current, energy, gradient, entries_);
@@ -433,7 +348,15 @@ class NewtonDirection {
     const double factor_work = factor_.lastWork();
     const bool solved = factor_.solve(-gradient, direction);
     descent.addWork(factor_work + factor_.lastWork());
+    slope = gradient.dot(direction);
     return solved;
+  }
+  // Plain gradient descent, when the Newton direction does not descend (numerically).
+  bool gradientDirection(double& slope) {
+    if (grid_phase_) return false;
+    direction = -gradient;
+    slope = -gradient.squaredNorm();
+    return slope < 0;
   }
 
   Eigen::VectorXd gradient, direction;
@@ -444,6 +367,8 @@ class NewtonDirection {
   const StretchNewtonSettings& settings_;
   const int n_;
   const bool direct_;
+  bool grid_phase_;
+  std::optional<GridNewtonSystem> grid_;
   SymmetricFactor factor_;
   std::vector<Eigen::Triplet<double>> entries_;
   Eigen::SparseMatrix<double> H_;
@@ -451,6 +376,13 @@ class NewtonDirection {
 };
 
 }  // namespace
+
+double gridNewtonStepWork(int faces) {
+  // The terms and products (kGridFaceWork), an energy for the collapse cap, one trial's
+  // energy, flip check and metrics.
+  return faces * (kGridFaceWork + WorkCosts::kFlipCheckFace * 2 + WorkCosts::kEnergyFace +
+                  WorkCosts::kMetricsFace);
+}
 
 bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings) {
   return SolvePath(vertices, settings.direct_up_to).iterative();
@@ -476,52 +408,61 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     budget.charge(2.0 * faces * WorkCosts::kEnergyFace);  // the frames and the first energy
     if (!rescaleToArea(current, n, total_area, energy)) return uv;
 
-    NewtonDirection newton(patch, frames, settings, budget);
-    const Eigen::VectorXd& gradient = newton.gradient;
+    NewtonDirection newton(patch, frames, settings);
     Eigen::VectorXd& direction = newton.direction;
     LocalUVs step(current.size(), Eigen::Vector2d::Zero());
-    for (int it = 0; it < steps; ++it) {
-      if (!descent->beginStep(it, steps)) break;
-      if (!newton.compute(current, energy, *descent, counts)) {
-        counts.stopped = true;
-        break;
-      }
-      double slope = gradient.dot(direction);
-      if (!(slope < 0)) {  // not a descent direction (numerically): plain gradient descent
-        direction = -gradient;
-        slope = -gradient.squaredNorm();
-        if (!(slope < 0)) {
-          counts.stopped = true;
+    // The grid's steps first, then the fine ones, each with its own count. A grid step that
+    // fails or stops gaining hands over to the fine steps; running out of budget ends both.
+    const int grid_steps = newton.inGridPhase() ? settings.grid_max_steps : 0;
+    int begun = 0;
+    for (const bool grid : {true, false}) {
+      if (grid != newton.inGridPhase()) continue;
+      bool finished = false;  // the budget ran out, or the fine steps stopped
+      for (int it = 0; it < (grid ? grid_steps : steps); ++it) {
+        if (!descent->beginStep(begun++, grid_steps + steps)) {
+          finished = true;
+          break;
+        }
+        double slope = 0;
+        if (!newton.compute(current, energy, *descent, counts, slope) ||
+            (!(slope < 0) && !newton.gradientDirection(slope))) {
+          finished = counts.stopped = !grid;
+          break;
+        }
+        for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
+
+        // Capped short of the first collapse, then halved until the energy drops enough; the
+        // map is checked at the scale it is returned at.
+        Energy trial;
+        const auto sufficientDecrease = [&](LocalUVs& candidate, double length) {
+          trial = energyOf(patch, frames, candidate);
+          descent->addWork(faces * WorkCosts::kEnergyFace);
+          if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) return false;
+          return rescaleToArea(candidate, n, total_area, trial);
+        };
+        const double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
+        descent->addWork(faces * WorkCosts::kFlipCheckFace);
+        const CheckedDescent::Outcome outcome =
+            descent->tryStep(step, length, 30, sufficientDecrease);
+        if (!outcome.taken) {
+          finished = counts.stopped = !grid;
+          break;
+        }
+        ++counts.steps_taken;
+        newton.adapt(length, outcome.halvings);
+        const double before = energy.value();
+        energy = trial;
+        if (!outcome.gained) {
+          finished = !grid;
+          break;
+        }
+        if (!(energy.value() < before * (1 - 1e-9))) {  // converged as far as doubles tell
+          finished = counts.stopped = !grid;
           break;
         }
       }
-      for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
-
-      // Capped short of the first collapse, then halved until the energy drops enough; the
-      // map is checked at the scale it is returned at.
-      Energy trial;
-      const auto sufficientDecrease = [&](LocalUVs& candidate, double length) {
-        trial = energyOf(patch, frames, candidate);
-        descent->addWork(faces * WorkCosts::kEnergyFace);
-        if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) return false;
-        return rescaleToArea(candidate, n, total_area, trial);
-      };
-      const double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
-      descent->addWork(faces * WorkCosts::kFlipCheckFace);
-      const CheckedDescent::Outcome outcome =
-          descent->tryStep(step, length, 30, sufficientDecrease);
-      if (!outcome.taken) {
-        counts.stopped = true;
-        break;
-      }
-      ++counts.steps_taken;
-      const double before = energy.value();
-      energy = trial;
-      if (!outcome.gained) break;
-      if (!(energy.value() < before * (1 - 1e-9))) {
-        counts.stopped = true;  // converged as far as doubles tell
-        break;
-      }
+      if (grid) newton.leaveGridPhase();
+      if (finished) break;
     }
     return descent->takeBest();
   } catch (const std::bad_alloc&) {

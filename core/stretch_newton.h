@@ -20,6 +20,7 @@
 
 #include <vector>
 
+#include "grid_newton.h"
 #include "linear/solve_path.h"
 #include "metrics.h"
 #include "options.h"
@@ -39,7 +40,15 @@ struct StretchNewtonSettings {
   // The tolerance is rarely met in a few iterations: this cap decides (3, 5, 8 and 10 measured:
   // docs/measurements.md).
   int cg_max_iterations = 5;
+  // Above direct_up_to, up to this many steps in the coarse grid's space first (grid_newton.h;
+  // 0: none), then the fine ones. A grid step that fails or gains under the budget's least
+  // gain hands over to the fine steps early.
+  int grid_max_steps = 30;
+  GridNewtonSettings grid;
 };
+
+// The expected work (work.h) of one grid step on a patch of `faces` faces.
+double gridNewtonStepWork(int faces);
 
 // True when a patch of `vertices` real vertices takes the conjugate-gradient path.
 bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings = {});
@@ -47,6 +56,7 @@ bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settin
 struct StretchNewtonCounts {
   int steps_taken = 0;
   int cg_iterations = 0;  // summed over the steps (0 on the direct path)
+  int grid_steps = 0;     // directions found in the grid's coarse space
   bool skipped = false;   // the system did not fit in memory
   bool stopped = false;   // a step could not be taken, or the energy stopped decreasing
 };

@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <map>
+#include <random>
 #include <utility>
 
 #include "core/parameterize.h"
 #include "core/stretch_newton.h"
+#include "core/stretch_terms.h"
 #include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"
@@ -150,7 +153,10 @@ TEST(StretchNewton, LargePatchesStepWithoutTheFactor) {
   const double before = metrics.l2;
   ASSERT_GT(before, 1.01);
   StretchNewtonCounts counts;
-  const LocalUVs result = minimizeStretchWithFreeBoundary(patch, uv, 6, metrics, counts);
+  StretchNewtonSettings fine_only;  // the grid's steps have a test of their own
+  fine_only.grid_max_steps = 0;
+  const LocalUVs result =
+      minimizeStretchWithFreeBoundary(patch, uv, 6, metrics, counts, {}, {}, fine_only);
   EXPECT_FALSE(counts.skipped);
   EXPECT_GT(counts.steps_taken, 0);
   EXPECT_GT(counts.cg_iterations, 0);
@@ -181,6 +187,7 @@ TEST(StretchNewton, ConjugateGradientsMatchTheFactorOnCamelhead) {
   for (int direct = 0; direct < 2; ++direct) {
     StretchNewtonSettings settings;
     settings.direct_up_to = direct ? 1 << 30 : 0;
+    settings.grid_max_steps = 0;
     StretchMetrics metrics = begin;
     StretchNewtonCounts counts;
     const LocalUVs result =
@@ -193,6 +200,68 @@ TEST(StretchNewton, ConjugateGradientsMatchTheFactorOnCamelhead) {
   }
   EXPECT_LT(l2[1], 0.9 * begin.l2);
   EXPECT_GT(begin.l2 - l2[0], 0.75 * (begin.l2 - l2[1]));
+}
+
+// The grid's steps (grid_newton.h) alone: a smooth warp of a planar patch is a smooth deformation
+// of the plane, which the grid's space holds up to its resolution, so its steps remove most of
+// the stretch, one-to-one, before any fine step.
+TEST(StretchNewton, GridStepsUnwarpASmoothWarp) {
+  const test::Mesh m = test::planarGrid(60);
+  const Patch patch = buildPatch(m.V, m.F);
+  LocalUVs uv(patch.vertexCount());
+  for (int v = 0; v < patch.vertexCount(); ++v) {
+    const Eigen::Vector3d p = patch.position[v];
+    uv[v] = Eigen::Vector2d(p.x() + 0.4 * p.x() * p.x(), p.y() * (1 + 0.5 * p.x()));
+  }
+  StretchMetrics metrics = stretchMetrics(patch, uv);
+  const double before = metrics.l2;
+  ASSERT_GT(before, 1.01);
+  StretchNewtonSettings settings;
+  settings.direct_up_to = 100;  // the large-patch path on a small patch
+  settings.grid.cells = 16;
+  StretchNewtonCounts counts;
+  const LocalUVs result =
+      minimizeStretchWithFreeBoundary(patch, uv, 1, metrics, counts, {}, {}, settings);
+  EXPECT_GT(counts.grid_steps, 2);
+  EXPECT_LT(metrics.l2 - 1, 0.05 * (before - 1));
+  EXPECT_EQ(stretchMetrics(patch, result).l2, metrics.l2);
+  EXPECT_EQ(flippedFaceCount(patch, result), 0);
+  EXPECT_TRUE(boundaryIsSimple(patch, result));
+}
+
+// The projected Hessian of |J|^2 / det^2 from its known eigensystem equals an eigensolver's
+// projection of the exact Hessian (differentiated twice by hand below), also where the singular
+// values are equal (a rotation times a scale) and far apart.
+TEST(StretchNewton, AnalyticHessianMatchesTheEigensolversProjection) {
+  const auto exact = [](const Eigen::Vector4d& J) {
+    const double det = J[0] * J[3] - J[1] * J[2], fro = J.squaredNorm();
+    const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);
+    const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
+    Eigen::Matrix4d h = (2 / q2) * Eigen::Matrix4d::Identity() -
+                        (4 / q3) * (J * cof.transpose() + cof * J.transpose()) +
+                        (6 * fro / q4) * cof * cof.transpose();
+    h(0, 3) -= 2 * fro / q3;
+    h(3, 0) -= 2 * fro / q3;
+    h(1, 2) += 2 * fro / q3;
+    h(2, 1) += 2 * fro / q3;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
+    const Eigen::Vector4d clamped = eigen.eigenvalues().cwiseMax(1e-8 / q2);
+    return Eigen::Matrix4d(eigen.eigenvectors() * clamped.asDiagonal() *
+                           eigen.eigenvectors().transpose());
+  };
+  std::vector<Eigen::Vector4d> cases = {
+      {1, 0, 0, 1}, {0.6, -0.8, 0.8, 0.6}, {2, 0, 0, 2}, {3, 0.1, -0.2, 0.05}, {0.01, 2, -3, 0.02}};
+  std::mt19937 random(7);
+  std::normal_distribution<double> normal;
+  while (cases.size() < 200) {
+    Eigen::Vector4d J(normal(random), normal(random), normal(random), normal(random));
+    if (J[0] * J[3] - J[1] * J[2] < 0) J.head<2>() *= -1;
+    cases.push_back(J);
+  }
+  for (const Eigen::Vector4d& J : cases) {
+    const Eigen::Matrix4d expected = exact(J), got = stretchHessian(J);
+    EXPECT_LT((got - expected).norm(), 1e-9 * expected.norm()) << J.transpose();
+  }
 }
 
 // With holes every loop is checked: no hole may cross another or the outer loop.

@@ -1,0 +1,95 @@
+// The coarse space of the Newton steps on a large patch (stretch_newton.h): displacements of a
+// regular grid laid over the current map, carried to the vertices by bilinear interpolation P,
+// so that a step is a smooth deformation of the plane. What freeing the boundary gains at scale
+// is such a deformation: the polygon's straight sides bend to the patch's own outline and the
+// interior follows. The grid's Newton system P^T H P (2 unknowns per grid node) is summed face by
+// face, H never stored, and is small enough for a sparse factor: a step costs about three
+// passes over the faces, where a fine step (conjugate gradients on H) costs a multigrid setup and
+// several cycles.
+//
+// Steps are damped as in Levenberg-Marquardt, with a smoothness term in place of the identity:
+// damping x (the mean diagonal) x the grid's 4-neighbour graph Laplacian, per coordinate. It
+// holds back the nodes few vertices lean on (at the map's edge), whose undamped moves crushed
+// faces and cut the first steps to a few percent of their length. The damping falls after a full
+// step and rises after a step cut below half.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <array>
+#include <vector>
+
+#include "patch.h"
+#include "solve.h"
+#include "stretch_terms.h"
+#include "work.h"
+
+namespace sdp {
+
+struct GridNewtonSettings {
+  int cells = 64;               // cells on the map's longer side
+  double damping = 0.03;        // the first step's (see above)
+  double damping_fall = 0.3;    // its factor after a full step...
+  double damping_rise = 3;      // ... and after a step cut below half its length
+  double least_damping = 1e-4;  // bounds of the damping
+  double most_damping = 10;
+};
+
+// Work (work.h) per face of one grid system: the face's terms and their products with its
+// (mostly four) nodes' weights.
+constexpr double kGridFaceWork = WorkCosts::kNewtonHessianFace + 40 * WorkCosts::kNonzero;
+
+class GridNewtonSystem {
+ public:
+  GridNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& frames,
+                   const GridNewtonSettings& settings);
+
+  // Lays the grid over the map's bounding box, sums the grid's gradient and damped Hessian at
+  // `uv` (whose energy is `energy`) and solves for the step, carried to the vertices in
+  // `direction` (u and v of vertex i at 2i and 2i + 1). Returns false when the factor fails.
+  bool solve(const LocalUVs& uv, const Energy& energy, Eigen::VectorXd& direction);
+  // The energy's slope along the last direction (g^T P d).
+  double slope() const { return slope_; }
+  // After a step of `length` times the direction was taken, `halvings` halvings after the cap.
+  void adapt(double length, int halvings);
+  // Work (work.h) of the last solve().
+  double lastWork() const { return last_work_; }
+  int nodeCount() const { return static_cast<int>(node_x_.size()); }
+
+ private:
+  struct Weights {
+    std::array<int, 4> node;  // active node numbers
+    std::array<double, 4> weight;
+  };
+  struct Partial {  // one slot's sums
+    Eigen::VectorXd gradient;
+    std::vector<double> band;                 // per node, kBand blocks of 4 (uu, uv, vu, vv)
+    std::vector<Eigen::Triplet<double>> far;  // blocks between nodes further apart
+  };
+  static constexpr int kReach = 2;  // the band: nodes up to this many cells apart in x and y
+  static constexpr int kBandWidth = 2 * kReach + 1;
+  static constexpr int kBand = kBandWidth * kBandWidth;
+
+  void layOver(const LocalUVs& uv);
+  int bandSlot(int a, int b) const;
+  void sumFaces(const LocalUVs& uv, const Energy& energy);
+  void assembleMatrix();
+
+  const Patch& patch_;
+  const std::vector<FaceFrame>& frames_;
+  const GridNewtonSettings settings_;
+  double damping_;
+  int nx_ = 0, ny_ = 0;
+  std::vector<int> active_;  // per grid node: its active number, -1 when no vertex uses it
+  std::vector<Weights> vertex_;
+  std::vector<int> node_x_, node_y_;
+  std::vector<Partial> partial_;
+  Eigen::VectorXd gradient_;
+  Eigen::SparseMatrix<double> matrix_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor_;
+  double slope_ = 0;
+  double last_work_ = 0;
+};
+
+}  // namespace sdp

@@ -1,0 +1,120 @@
+#include "stretch_terms.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "free_boundary.h"
+#include "geometry.h"
+
+namespace sdp {
+
+Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J) {
+  const double det = J[0] * J[3] - J[1] * J[2], fro = J.squaredNorm();
+  // Singular values: (s1 + s2)^2 = |J|^2 + 2 det and (s1 - s2)^2 = |J|^2 - 2 det.
+  const double sum = std::sqrt(std::max(fro + 2 * det, 0.0));
+  const double s1 = 0.5 * (sum + std::sqrt(std::max(fro - 2 * det, 0.0)));
+  const double s2 = det / s1;
+  // V's first column: the eigenvector of J^T J for s1^2, from whichever of the two candidate
+  // rows is longer (both vanish when s1 = s2, where any basis serves).
+  const double p = J[0] * J[0] + J[2] * J[2], q = J[1] * J[1] + J[3] * J[3];
+  const double r = J[0] * J[1] + J[2] * J[3], l1 = s1 * s1;
+  const Eigen::Vector2d x(l1 - q, r), y(r, l1 - p);
+  Eigen::Vector2d v1 = x.squaredNorm() >= y.squaredNorm() ? x : y;
+  v1 = v1.norm() > 0 ? Eigen::Vector2d(v1.normalized()) : Eigen::Vector2d(1, 0);
+  Eigen::Vector2d u1(J[0] * v1.x() + J[1] * v1.y(), J[2] * v1.x() + J[3] * v1.y());
+  u1 = u1.norm() > 0 ? Eigen::Vector2d(u1.normalized()) : Eigen::Vector2d(1, 0);
+  const Eigen::Vector2d v2(-v1.y(), v1.x()), u2(-u1.y(), u1.x());
+  // u v^T in J's order (row by row).
+  const auto outer = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+    return Eigen::Vector4d(u.x() * v.x(), u.x() * v.y(), u.y() * v.x(), u.y() * v.y());
+  };
+  const Eigen::Vector4d twist = std::sqrt(0.5) * (outer(u2, v1) - outer(u1, v2));
+  const Eigen::Vector4d flip = std::sqrt(0.5) * (outer(u2, v1) + outer(u1, v2));
+  const double floor = 1e-8 / (det * det);
+  const double s1_3 = s1 * s1 * s1, s2_3 = s2 * s2 * s2;
+  const std::array<std::pair<double, Eigen::Vector4d>, 4> modes = {{
+      {6 / (s1_3 * s1), outer(u1, v1)},
+      {6 / (s2_3 * s2), outer(u2, v2)},
+      {-2 * (1 / s1_3 + 1 / s2_3) / (s1 + s2), twist},
+      {2 * (s1 * s1 + s1 * s2 + s2 * s2) / (s1_3 * s2_3), flip},
+  }};
+  Eigen::Matrix4d h = Eigen::Matrix4d::Zero();
+  for (const auto& [value, vector] : modes)
+    h.noalias() += std::max(value, floor) * vector * vector.transpose();
+  return h;
+}
+
+FaceFrame faceFrame(const Patch& patch, int f, double tiny_area) {
+  const std::array<Eigen::Vector2d, 3> x = flatTriangle(patch, f);
+  FaceFrame frame;
+  const double twice_area = x[1].x() * x[2].y();
+  if (!(0.5 * twice_area > tiny_area)) {
+    for (auto& g : frame.g) g.setZero();
+    return frame;
+  }
+  Eigen::Matrix2d edges;  // columns: the two edges from corner 0, laid flat
+  edges << x[1], x[2];
+  const Eigen::Matrix2d inverse = edges.inverse();
+  frame.g[1] = inverse.row(0).transpose();
+  frame.g[2] = inverse.row(1).transpose();
+  frame.g[0] = -frame.g[1] - frame.g[2];
+  frame.area = 0.5 * twice_area;
+  return frame;
+}
+
+Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const LocalUVs& uv) {
+  Energy e;
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    if (frames[f].area == 0) continue;
+    const Eigen::Vector4d J = jacobian(frames[f], patch.face[f], uv);
+    const double det = determinant(J);
+    if (!(det > 0)) return {std::numeric_limits<double>::infinity(), 1.0};
+    e.Q += frames[f].area * J.squaredNorm() / (det * det);
+    e.S += frames[f].area * det;
+  }
+  return e;
+}
+
+// The largest t for which no face's signed UV area reaches zero along uv + t d.
+double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d) {
+  double limit = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    const auto& t = patch.face[f];
+    const Eigen::Vector2d p0 = uv[t[1]] - uv[t[0]], p1 = uv[t[2]] - uv[t[0]];
+    const Eigen::Vector2d d0 = d[t[1]] - d[t[0]], d1 = d[t[2]] - d[t[0]];
+    // area(t) ~ qc + qb t + qa t^2
+    const double qa = cross2(d0, d1), qb = cross2(p0, d1) + cross2(d0, p1), qc = cross2(p0, p1);
+    auto consider = [&](double root) {
+      if (root > 0 && std::isfinite(root)) limit = std::min(limit, root);
+    };
+    if (qa == 0) {
+      if (qb != 0) consider(-qc / qb);
+      continue;
+    }
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc < 0) continue;
+    // Roots without cancellation: q = -(qb + sign(qb) sqrt(disc)) / 2, roots q / qa and qc / q.
+    const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+    consider(q / qa);
+    if (q != 0) consider(qc / q);
+  }
+  return limit;
+}
+
+// One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
+// dJ of Q * S and the Hessian h of S * Q (the term that bends; S's own curvature and the cross
+// terms dQ dS^T are left out, as the energy is scale-invariant and each step is rescaled: a
+// positive definite approximation, so the step still descends), made positive semi-definite
+// (stretchHessian).
+void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
+                     Eigen::Vector4d& dJ, Eigen::Matrix4d& h) {
+  const double det = determinant(J), fro = J.squaredNorm();
+  const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
+  const double q2 = det * det, q3 = q2 * det;
+  dJ = frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
+  h = stretchHessian(J) * (energy.S * frame.area);
+}
+
+}  // namespace sdp

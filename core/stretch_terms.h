@@ -1,0 +1,71 @@
+// The L2 stretch of a map face by face, as the Newton steps (stretch_newton.h) and their coarse
+// grid (grid_newton.h) use it: L2^2 = Q * S / (2 A^2) with Q = sum_f A_f |J_f^-1|^2 (J_f the map
+// from the flat 3D triangle to its UV triangle, A_f its 3D area, A their sum) and S = sum_f A_f
+// det J_f (the UV area).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "patch.h"
+#include "solve.h"
+
+namespace sdp {
+
+// J = sum_k uv_k g_k^T over the corners k: the gradients g_k of the corners' hat functions in
+// the flat 3D triangle.
+struct FaceFrame {
+  std::array<Eigen::Vector2d, 3> g;
+  double area = 0;  // 3D area; 0 for a face without one (it then adds nothing)
+};
+
+// The frame of face f; a face of 3D area below tiny_area gets none (area 0, zero gradients).
+FaceFrame faceFrame(const Patch& patch, int f, double tiny_area);
+
+inline  // (a, b, c, d) = J row by row: u's gradient, then v's.
+    Eigen::Vector4d
+    jacobian(const FaceFrame& frame, const std::array<int, 3>& t, const LocalUVs& uv) {
+  Eigen::Vector4d J = Eigen::Vector4d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    J.head<2>() += uv[t[k]].x() * frame.g[k];
+    J.tail<2>() += uv[t[k]].y() * frame.g[k];
+  }
+  return J;
+}
+
+inline double determinant(const Eigen::Vector4d& J) {
+  return J[0] * J[3] - J[1] * J[2];
+}
+
+// Q = sum A |J|^2 / det^2 and S = sum A det; Q * S is the scale-invariant energy (+inf when a
+// face with area has collapsed or flipped).
+struct Energy {
+  double Q = 0, S = 0;
+  double value() const { return Q * S; }
+};
+
+Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const LocalUVs& uv);
+
+// The largest t for which no face's signed UV area reaches zero along uv + t d.
+double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d);
+
+// The Hessian of |J|^2 / det(J)^2 = 1/s1^2 + 1/s2^2 (s1, s2 J's singular values; det > 0) over
+// J = (a, b, c, d) row by row, made positive semi-definite. The energy is isotropic, so its
+// Hessian's eigenvectors are known in J = U diag(s1, s2) V^T (Smith, de Goes and Kim,
+// "Analytic eigensystems for isotropic distortion energies", 2019): the scalings U e_i e_i^T V^T
+// with eigenvalues 6 / s_i^4, the twist U [0 -1; 1 0] V^T / sqrt 2 with
+// -2 (1/s1^3 + 1/s2^3) / (s1 + s2), always negative, and the flip U [0 1; 1 0] V^T / sqrt 2 with
+// 2 (s1^2 + s1 s2 + s2^2) / (s1 s2)^3. Eigenvalues below 1e-8 / det^2 are raised to it: the same
+// projection as a 4x4 eigensolver's, which took half of a matrix-free Newton step's time.
+Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J);
+
+// One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
+// dJ of Q * S and the Hessian h of S * Q (the term that bends; S's own curvature and the cross
+// terms dQ dS^T are left out, as the energy is scale-invariant and each step is rescaled: a
+// positive definite approximation, so the step still descends), made positive semi-definite
+// (stretchHessian).
+void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
+                     Eigen::Vector4d& dJ, Eigen::Matrix4d& h);
+
+}  // namespace sdp
