@@ -24,12 +24,21 @@ bool CheckedDescent::beginStep(int step, int steps) {
     budget_.step_work = step_work_;
     budget_.step_seconds =
         std::chrono::duration<double>(RefineBudget::Clock::now() - step_start_).count();
+    if (expected_work_ > 0 && step_work_ > 0) {
+      budget_.step_seconds *= expected_work_ / step_work_;
+      budget_.step_work = expected_work_;
+    }
+    expected_work_ = 0;
   }
   if (budget_.expired()) return false;
   stepped_ = true;
   step_work_ = 0;
   step_start_ = RefineBudget::Clock::now();
   return true;
+}
+
+void CheckedDescent::expectNextStepWork(double work) {
+  expected_work_ = work;
 }
 
 void CheckedDescent::addWork(double work) {

@@ -31,6 +31,9 @@ class CheckedDescent {
   // Work (work.h) the method did for the current step (its direction); tryStep() counts its
   // own checks.
   void addWork(double work);
+  // The next step is of another kind, expected to cost `work`: the budget's prediction for it
+  // (work, and seconds in proportion) instead of the last step's.
+  void expectNextStepWork(double work);
 
   struct Outcome {
     bool taken = false;   // a length passed every check; current() moved
@@ -57,8 +60,9 @@ class CheckedDescent {
   std::vector<BorderEdge> border_;  // the same for every check
   LocalUVs current_, candidate_, best_;
   RefineBudget::Clock::time_point step_start_;
-  bool stepped_ = false;  // a step has begun
-  double step_work_ = 0;  // the current step's work so far
+  bool stepped_ = false;      // a step has begun
+  double step_work_ = 0;      // the current step's work so far
+  double expected_work_ = 0;  // expectNextStepWork's, until the next step begins (0: none)
 };
 
 }  // namespace sdp

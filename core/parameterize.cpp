@@ -394,7 +394,7 @@ class Pipeline {
   bool gridStepsRun() const {
     return options_.free_boundary && options_.boundary == BoundaryShape::Measured &&
            stretchNewtonIsMatrixFree(patch_.real_vertex_count) &&
-           StretchNewtonSettings().grid_max_steps > 0;
+           StretchNewtonSettings().grid_max_steps > 0;  // the settings refine() passes
   }
 
   static bool outOfBudget(RefineStop stop) {
@@ -473,15 +473,18 @@ class Pipeline {
     spent = refine_meter_.spent;
     StretchNewtonCounts newton;
     const RefineBudget newton_budget = newBudget();
-    // Without the sparse factor the first steps are the grid's: not started when one would
-    // overrun.
+    // Without the sparse factor a fine Newton step costs several grid steps: neither is
+    // started when it would overrun.
+    StretchNewtonSettings settings;
     if (stretchNewtonIsMatrixFree(patch_.real_vertex_count)) {
-      newton_budget.step_work = gridNewtonStepWork(patch_.real_face_count);
+      settings.first_fine_step_work = firstFineNewtonStepWork(patch_.real_face_count);
+      newton_budget.step_work = gridStepsRun() ? gridNewtonStepWork(patch_.real_face_count)
+                                               : settings.first_fine_step_work;
       newton_budget.step_seconds =
           reweighting.step_seconds * newton_budget.step_work / std::max(reweighting.step_work, 1.0);
     }
     uv_ = minimizeStretchWithFreeBoundary(patch_, uv_, options_.stretch_iterations, metrics_,
-                                          newton, progress_, newton_budget);
+                                          newton, progress_, newton_budget, settings);
     noteStop(newton_budget);
     clock_.addWork(Stage::Newton, refine_meter_.spent - spent);
     report().free_boundary_steps = counts.steps_taken + newton.steps_taken;

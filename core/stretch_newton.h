@@ -45,10 +45,16 @@ struct StretchNewtonSettings {
   // gain hands over to the fine steps early.
   int grid_max_steps = 30;
   GridNewtonSettings grid;
+  // The expected work of the first fine step after grid steps, which costs several times a
+  // grid step (firstFineNewtonStepWork): a budget without room for it does not start it. 0: the
+  // last grid step's.
+  double first_fine_step_work = 0;
 };
 
-// The expected work (work.h) of one grid step on a patch of `faces` faces.
+// The expected work (work.h) of one grid step, and of the first fine step without the sparse
+// factor (its set-up, one update, the conjugate gradients), on a patch of `faces` faces.
 double gridNewtonStepWork(int faces);
+double firstFineNewtonStepWork(int faces);
 
 // True when a patch of `vertices` real vertices takes the conjugate-gradient path.
 bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings = {});

@@ -7,6 +7,7 @@
 
 #include "core/parameterize.h"
 #include "core/storage.h"
+#include "core/stretch_newton.h"
 #include "test_meshes.h"
 
 namespace sdp {
@@ -143,6 +144,30 @@ TEST(Refinement, WorkBudgetStopsAtTheSameStepEveryRun) {
   EXPECT_LT(a.report.refinement_work, 2 * o.refine_work_factor) << "overran by more than a step";
   EXPECT_EQ(a.report.stretch_iterations_run, b.report.stretch_iterations_run);
   EXPECT_TRUE(a.layout.uv.isApprox(b.layout.uv, 0));
+}
+
+// Past the sparse factor's size the Newton stage starts with the grid's steps, a fine step
+// costing several of them: the budget's prediction changes with the kind of step, so the
+// hand-over to the fine steps does not overrun (it did, by a fifth, on an 845k-vertex scan).
+TEST(Refinement, LargePatchesStayWithinTheBudgetAcrossStepKinds) {
+  const test::Mesh m = test::grid(240, 1, 1, [](double x, double y) {
+    return 0.15 * std::sin(9 * x) * std::sin(7 * y) + 0.3 * x * x;
+  });
+  Options o = productDefaults();
+  o.refine_min_work = 0;
+  for (const double factor : {1.0, 1.5, 2.0, 3.0}) {
+    o.refine_work_factor = factor;
+    const Result r = parameterize(m.V, m.F, o);
+    ASSERT_GT(r.report.vertices, StretchNewtonSettings().direct_up_to);
+    std::printf("budget %.1f: work %.3f, %d free-boundary steps, L2 %.5f\n", factor,
+                r.report.refinement_work, r.report.free_boundary_steps, r.report.l2_stretch);
+    if (factor >= 1.5) {  // room for grid steps after the reweighting's share
+      EXPECT_GT(r.report.free_boundary_steps, 0);
+      EXPECT_LT(r.report.l2_stretch, r.report.l2_stretch_fixed_boundary);
+    }
+    EXPECT_LE(r.report.refinement_work, 1.05 * factor);
+    EXPECT_EQ(test::countNonPositiveFaces(r, m.F), 0);
+  }
 }
 
 TEST(Refinement, ZeroMinGainRunsEveryIteration) {
