@@ -105,17 +105,31 @@ TEST(FreeBoundary, CircleSquareAndFixedBoundaryKeepTheBoundary) {
   EXPECT_LT(parameterize(m.V, m.F, free).report.l2_stretch, r.report.l2_stretch);
 }
 
+// A planar patch's identity map warped smoothly in the plane (one-to-one, L2 above 1).
+LocalUVs warpedInThePlane(const Patch& patch) {
+  LocalUVs uv(patch.vertexCount());
+  for (int v = 0; v < patch.vertexCount(); ++v) {
+    const Eigen::Vector3d p = patch.position[v];
+    uv[v] = Eigen::Vector2d(p.x() + 0.4 * p.x() * p.x(), p.y() * (1 + 0.5 * p.x()));
+  }
+  return uv;
+}
+
+// The Newton steps' result is one-to-one and `metrics` are its own.
+void expectOneToOneWithItsMetrics(const Patch& patch, const LocalUVs& result,
+                                  const StretchMetrics& metrics) {
+  EXPECT_EQ(stretchMetrics(patch, result).l2, metrics.l2);
+  EXPECT_EQ(flippedFaceCount(patch, result), 0);
+  EXPECT_TRUE(boundaryIsSimple(patch, result));
+}
+
 // A planar patch warped in the plane: its isometric map exists and has no boundary to respect,
 // so Newton steps on the L2 stretch must find it (L2 = 1) in a few steps. Checks the gradient and
 // Hessian as much as the line search.
 TEST(StretchNewton, UnwarpsAPlanarPatchToAnIsometry) {
   const test::Mesh m = test::planarGrid(12);
   const Patch patch = buildPatch(m.V, m.F);
-  LocalUVs uv(patch.vertexCount());
-  for (int v = 0; v < patch.vertexCount(); ++v) {
-    const Eigen::Vector3d p = patch.position[v];
-    uv[v] = Eigen::Vector2d(p.x() + 0.4 * p.x() * p.x(), p.y() * (1 + 0.5 * p.x()));
-  }
+  const LocalUVs uv = warpedInThePlane(patch);
   StretchMetrics metrics = stretchMetrics(patch, uv);
   ASSERT_EQ(metrics.flipped_faces, 0);
   const double before = metrics.l2;
@@ -124,9 +138,7 @@ TEST(StretchNewton, UnwarpsAPlanarPatchToAnIsometry) {
   const LocalUVs result = minimizeStretchWithFreeBoundary(patch, uv, 20, metrics, counts);
   EXPECT_GT(counts.steps_taken, 0);
   EXPECT_LT(metrics.l2, 1 + 1e-6);
-  EXPECT_EQ(stretchMetrics(patch, result).l2, metrics.l2);
-  EXPECT_EQ(flippedFaceCount(patch, result), 0);
-  EXPECT_TRUE(boundaryIsSimple(patch, result));
+  expectOneToOneWithItsMetrics(patch, result, metrics);
 }
 
 // camelhead: the ARAP steps stop (their optimum folds) at the fixed-boundary L2 of 1.74; the
@@ -144,11 +156,7 @@ TEST(StretchNewton, LargePatchesStepWithoutTheFactor) {
   const test::Mesh m = test::planarGrid(n);
   const Patch patch = buildPatch(m.V, m.F);
   ASSERT_GT(patch.real_vertex_count, StretchNewtonSettings().direct_up_to);
-  LocalUVs uv(patch.vertexCount());
-  for (int v = 0; v < patch.vertexCount(); ++v) {
-    const Eigen::Vector3d p = patch.position[v];
-    uv[v] = Eigen::Vector2d(p.x() + 0.4 * p.x() * p.x(), p.y() * (1 + 0.5 * p.x()));
-  }
+  const LocalUVs uv = warpedInThePlane(patch);
   StretchMetrics metrics = stretchMetrics(patch, uv);
   const double before = metrics.l2;
   ASSERT_GT(before, 1.01);
@@ -161,9 +169,7 @@ TEST(StretchNewton, LargePatchesStepWithoutTheFactor) {
   EXPECT_GT(counts.steps_taken, 0);
   EXPECT_GT(counts.cg_iterations, 0);
   EXPECT_LT(metrics.l2 - 1, 0.01 * (before - 1));
-  EXPECT_EQ(stretchMetrics(patch, result).l2, metrics.l2);
-  EXPECT_EQ(flippedFaceCount(patch, result), 0);
-  EXPECT_TRUE(boundaryIsSimple(patch, result));
+  expectOneToOneWithItsMetrics(patch, result, metrics);
 }
 
 // The two ways of solving the Newton system, where both run: on camelhead (11k vertices, the
@@ -208,11 +214,7 @@ TEST(StretchNewton, ConjugateGradientsMatchTheFactorOnCamelhead) {
 TEST(StretchNewton, GridStepsUnwarpASmoothWarp) {
   const test::Mesh m = test::planarGrid(60);
   const Patch patch = buildPatch(m.V, m.F);
-  LocalUVs uv(patch.vertexCount());
-  for (int v = 0; v < patch.vertexCount(); ++v) {
-    const Eigen::Vector3d p = patch.position[v];
-    uv[v] = Eigen::Vector2d(p.x() + 0.4 * p.x() * p.x(), p.y() * (1 + 0.5 * p.x()));
-  }
+  const LocalUVs uv = warpedInThePlane(patch);
   StretchMetrics metrics = stretchMetrics(patch, uv);
   const double before = metrics.l2;
   ASSERT_GT(before, 1.01);
@@ -224,9 +226,7 @@ TEST(StretchNewton, GridStepsUnwarpASmoothWarp) {
       minimizeStretchWithFreeBoundary(patch, uv, 1, metrics, counts, {}, {}, settings);
   EXPECT_GT(counts.grid_steps, 2);
   EXPECT_LT(metrics.l2 - 1, 0.05 * (before - 1));
-  EXPECT_EQ(stretchMetrics(patch, result).l2, metrics.l2);
-  EXPECT_EQ(flippedFaceCount(patch, result), 0);
-  EXPECT_TRUE(boundaryIsSimple(patch, result));
+  expectOneToOneWithItsMetrics(patch, result, metrics);
 }
 
 // The projected Hessian of |J|^2 / det^2 from its known eigensystem equals an eigensolver's
