@@ -13,7 +13,7 @@ GridNewtonSystem::GridNewtonSystem(const Patch& patch, const std::vector<FaceFra
                                    const GridNewtonSettings& settings)
     : patch_(patch), frames_(frames), settings_(settings), damping_(settings.damping) {}
 
-void GridNewtonSystem::layOver(const LocalUVs& uv) {
+bool GridNewtonSystem::layOver(const LocalUVs& uv) {
   const int n = patch_.real_vertex_count;
   Eigen::Vector2d lo = uv[0], hi = uv[0];
   for (int v = 1; v < n; ++v) {
@@ -21,6 +21,7 @@ void GridNewtonSystem::layOver(const LocalUVs& uv) {
     hi = hi.cwiseMax(uv[v]);
   }
   const double side = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / settings_.cells;
+  if (!(side > 0) || !std::isfinite(side)) return false;  // no extent to lay a grid over
   nx_ = std::max(2, static_cast<int>(std::ceil((hi.x() - lo.x()) / side)) + 1);
   ny_ = std::max(2, static_cast<int>(std::ceil((hi.y() - lo.y()) / side)) + 1);
   active_.assign(static_cast<size_t>(nx_) * ny_, -1);
@@ -47,6 +48,7 @@ void GridNewtonSystem::layOver(const LocalUVs& uv) {
     }
   for (Weights& w : vertex_)
     for (int& node : w.node) node = active_[node];
+  return true;
 }
 
 int GridNewtonSystem::bandSlot(int a, int b) const {
@@ -162,11 +164,12 @@ void GridNewtonSystem::assembleMatrix() {
 }
 
 bool GridNewtonSystem::solve(const LocalUVs& uv, const Energy& energy, Eigen::VectorXd& direction) {
-  layOver(uv);
+  const int n = patch_.real_vertex_count;
+  last_work_ = n * 8 * WorkCosts::kVectorEntry;  // the bounds, weights and the step's values
+  if (!layOver(uv)) return false;
   sumFaces(uv, energy);
   assembleMatrix();
-  const int n = patch_.real_vertex_count;
-  last_work_ = patch_.real_face_count * kGridFaceWork + n * 8 * WorkCosts::kVectorEntry;
+  last_work_ += patch_.real_face_count * kGridFaceWork;
   factor_.compute(matrix_);
   if (factor_.info() != Eigen::Success) return false;
   const Eigen::VectorXd coarse = factor_.solve(-gradient_);

@@ -71,7 +71,7 @@ class GridNewtonSystem {
   static constexpr int kBandWidth = 2 * kReach + 1;
   static constexpr int kBand = kBandWidth * kBandWidth;
 
-  void layOver(const LocalUVs& uv);
+  bool layOver(const LocalUVs& uv);  // false when the map has no extent
   int bandSlot(int a, int b) const;
   void sumFaces(const LocalUVs& uv, const Energy& energy);
   void assembleMatrix();
