@@ -135,8 +135,8 @@ void GridNewtonSystem::assembleMatrix() {
         if (x < 0 || y < 0 || x >= nx_ || y >= ny_) continue;
         const int b = active_[static_cast<size_t>(y) * nx_ + x];
         if (b < 0) continue;
-        const double* block =
-            &partial_[0].band[(static_cast<size_t>(a) * kBand + bandSlot(a, b)) * 4];
+        const int slot = (dy + kReach) * kBandWidth + dx + kReach;  // bandSlot(a, b)
+        const double* block = &partial_[0].band[(static_cast<size_t>(a) * kBand + slot) * 4];
         if (block[0] == 0 && block[1] == 0 && block[2] == 0 && block[3] == 0) continue;
         for (int e = 0; e < 4; ++e) entries.emplace_back(2 * a + e / 2, 2 * b + e % 2, block[e]);
         if (a == b) trace += block[0] + block[3];
@@ -170,13 +170,15 @@ bool GridNewtonSystem::solve(const LocalUVs& uv, const Energy& energy, Eigen::Ve
   sumFaces(uv, energy);
   assembleMatrix();
   last_work_ += patch_.real_face_count * kGridFaceWork;
-  factor_.compute(matrix_);
-  if (factor_.info() != Eigen::Success) return false;
-  const Eigen::VectorXd coarse = factor_.solve(-gradient_);
-  const auto& L = factor_.matrixL().nestedExpression();
-  last_work_ += factorizationWork(L) + substitutionWork(L) +
-                static_cast<double>(matrix_.nonZeros()) * 10 * WorkCosts::kNonzero;
-  if (factor_.info() != Eigen::Success || !coarse.allFinite()) return false;
+  // The pattern's analysis, about ten visits of each entry.
+  last_work_ += static_cast<double>(matrix_.nonZeros()) * 10 * WorkCosts::kNonzero;
+  factor_.forgetPattern();
+  if (!factor_.factorize(matrix_)) return false;
+  last_work_ += factor_.lastWork();
+  Eigen::VectorXd coarse;
+  const bool solved = factor_.solve(-gradient_, coarse);
+  last_work_ += factor_.lastWork();
+  if (!solved) return false;
   for (int v = 0; v < n; ++v) {
     Eigen::Vector2d d = Eigen::Vector2d::Zero();
     for (int q = 0; q < 4; ++q)

@@ -15,11 +15,11 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <array>
 #include <vector>
 
+#include "linear/solve_path.h"
 #include "patch.h"
 #include "solve.h"
 #include "stretch_terms.h"
@@ -87,7 +87,7 @@ class GridNewtonSystem {
   std::vector<Partial> partial_;
   Eigen::VectorXd gradient_;
   Eigen::SparseMatrix<double> matrix_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor_;
+  SymmetricFactor factor_;
   double slope_ = 0;
   double last_work_ = 0;
 };

@@ -64,6 +64,9 @@ class SymmetricFactor {
     last_work_ = factored_ ? factorizationWork(ldlt_.matrixL().nestedExpression()) : 0;
     return factored_;
   }
+  // The next factorize() analyses its matrix's pattern anew: for a matrix whose pattern changes
+  // between calls (the grid Newton steps lay a new grid each time).
+  void forgetPattern() { analyzed_ = false; }
   bool factored() const { return factored_; }
   // x = A^-1 b, column by column; false on a numerical failure or a non-finite result.
   template <class Rhs, class Solution>
