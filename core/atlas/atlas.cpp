@@ -7,9 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <new>
+#include <optional>
 #include <sstream>
 
 #include "charts.h"
+#include "convex_cut.h"
 #include "core/connectivity.h"
 #include "core/error.h"
 #include "core/json.h"
@@ -159,11 +161,15 @@ std::vector<std::vector<int>> components(const FaceGraph& g) {
 // (the shared closed models, up to 86k faces) are halved.
 constexpr size_t kFacesPerFirstPart = 60000;
 
-// A chart above this share of the mesh's area is split when it fills less than kMinBoxFill of
-// its smallest bounding rectangle (0.1 and 0.6 chosen among 0.05-0.1 and 0.6-0.65 by the atlas
-// bench: lower shares or higher fills cost seam for no more efficiency).
-constexpr double kLargeChartShare = 0.1;
-constexpr double kMinBoxFill = 0.6;
+// Straight cuts of flattened charts (convex_cut.h), lengths in units of √(mesh area), areas in
+// units of the mesh area; chosen with the atlas bench (docs/measurements.md): a chart longer
+// than kLongestChart limits the scale of the whole atlas; a convex cut must remove kCutWorth of
+// hull area per length of cut and kCutMinGain in all (lower values add charts and seam faster
+// than efficiency), leaving kCutMinSide of the chart on either side.
+constexpr double kLongestChart = 1.0;
+constexpr double kCutWorth = 0.1;
+constexpr double kCutMinGain = 0.005;
+constexpr double kCutMinSide = 0.05;
 
 class AtlasBuilder {
  public:
@@ -268,9 +274,14 @@ class AtlasBuilder {
           });
       if (cancelled_) throw ParameterizationError("cancelled by the user");
       for (size_t i = 0; i < disks.size(); ++i) {
-        const bool good =
-            ok[i] && flat[i].report.l2_stretch <= options_.max_chart_stretch && packsWell(flat[i]);
+        const bool good = ok[i] && flat[i].report.l2_stretch <= options_.max_chart_stretch;
         if (good) {
+          std::vector<std::vector<int>> parts = straightCutPieces(graph, flat[i], scratch);
+          if (parts.size() >= 2) {
+            ++r.charts_split;
+            for (std::vector<int>& part : parts) pending.push_back(std::move(part));
+            continue;
+          }
           charted_faces += static_cast<int>(disks[i].size());
           charts_.push_back(std::move(flat[i]));
           continue;
@@ -292,12 +303,47 @@ class AtlasBuilder {
     }
   }
 
-  // False for a large chart that fills little of its smallest bounding rectangle: a few such
-  // charts leave most of the texture empty, and their halves pack closer (the shared closed
-  // models: median packing efficiency 0.48 -> 0.58 for 1.3x the seam, docs/measurements.md).
-  bool packsWell(const Chart& chart) const {
-    if (!(chart.report.area > kLargeChartShare * total_area_)) return true;
-    return boxFill(chart.uv, chart.corner_row) >= kMinBoxFill;
+  // A flattened chart's pieces when it should be cut along a straight line, else nothing: a
+  // chart longer than kLongestChart is halved across its length; one whose best convex cut
+  // (convex_cut.h) removes enough hull area for the seam it adds is cut there.
+  std::vector<std::vector<int>> straightCutPieces(const FaceGraph& graph, const Chart& chart,
+                                                  std::vector<int>& scratch) const {
+    if (chart.faces.size() < 8) return {};
+    const double uv_area = uvArea(chart.uv, chart.corner_row);
+    if (!(uv_area > 0) || !(chart.report.area > 0)) return {};
+    const double to_3d = std::sqrt(chart.report.area / uv_area);  // plane lengths to 3D lengths
+    const double mesh_length = std::sqrt(total_area_);
+    double extent = 0;
+    std::optional<ConvexCut> cut = middleCut(chart.uv, extent);
+    if (!(extent * to_3d > kLongestChart * mesh_length)) {
+      cut = bestConvexCut(chart.uv, chart.corner_row, kCutMinSide);
+      if (!cut || cut->hull_gain * to_3d < kCutWorth * cut->length * mesh_length ||
+          cut->hull_gain * to_3d * to_3d < kCutMinGain * total_area_)
+        return {};
+    }
+    // Faces by the side of their centroid, then each side's connected pieces.
+    for (size_t i = 0; i < chart.faces.size(); ++i) {
+      const auto& t = chart.corner_row[i];
+      const Eigen::Vector2d centroid = (chart.uv[t[0]] + chart.uv[t[1]] + chart.uv[t[2]]) / 3;
+      scratch[chart.faces[i]] = cut->normal.dot(centroid) < cut->offset ? 0 : 1;
+    }
+    std::vector<std::vector<int>> pieces;
+    for (int start : chart.faces) {
+      const int side = scratch[start];
+      if (side < 0) continue;
+      std::vector<int> piece = {start};
+      scratch[start] = kUnassigned;
+      for (size_t j = 0; j < piece.size(); ++j)
+        for (int k = 0; k < 3; ++k) {
+          const int next = graph.across[3 * piece[j] + k];
+          if (next >= 0 && scratch[next] == side)
+            scratch[next] = kUnassigned, piece.push_back(next);
+        }
+      std::sort(piece.begin(), piece.end());
+      pieces.push_back(std::move(piece));
+    }
+    for (int f : chart.faces) scratch[f] = kOutside;
+    return pieces;
   }
 
   // The patch pipeline's options for a chart of `faces` faces: one work floor for the whole
@@ -481,8 +527,8 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
       {"chart_fallbacks", "the patch pipeline's fallbacks, summed over the charts",
        [](R r) { return jsonInt(r.chart_fallbacks); }},
       {"charts_split",
-       "charts split in two again: stretch above `chartstretch`, refused by the patch pipeline, "
-       "or large and filling under 0.6 of their bounding rectangle",
+       "charts split again: stretch above `chartstretch`, refused by the patch pipeline, or cut "
+       "along a straight line for packing (long, or with arms and bays)",
        [](R r) { return jsonInt(r.charts_split); }},
       {"refinement_work", "the charts' refinement work over their linear maps' work",
        [](R r) { return jsonNumber(r.refinement_work); }},

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <string>
 
+#include "convex_cut.h"
 #include "core/error.h"
 #include "raster.h"
 
@@ -60,8 +61,8 @@ Eigen::Matrix2d rotationBy(double angle) {
   return r;
 }
 
-// The rotation that lays the chart's smallest bounding rectangle (one side on a hull edge) with
-// its long side along x.
+}  // namespace
+
 Eigen::Matrix2d smallestBoxRotation(const std::vector<Eigen::Vector2d>& uv) {
   const std::vector<Eigen::Vector2d> hull = convexHull(uv);
   double best_area = std::numeric_limits<double>::infinity();
@@ -78,6 +79,8 @@ Eigen::Matrix2d smallestBoxRotation(const std::vector<Eigen::Vector2d>& uv) {
   }
   return best;
 }
+
+namespace {
 
 const Eigen::Matrix2d& quarterTurn(int q) {
   static const Eigen::Matrix2d turns[4] = {(Eigen::Matrix2d() << 1, 0, 0, 1).finished(),
@@ -114,10 +117,13 @@ struct Footprint {
 
 // The footprint of a chart whose points, turned and scaled, are `p`. Each triangle touches one
 // run of cells per column (it is convex), found by the row spans of the transposed triangle, so
-// the cost follows the triangles' outlines, not the chart's area in texels.
+// the cost follows the triangles' outlines, not the chart's area in texels. With the chart's
+// boundary `loop` (a simple polygon: the chart is one-to-one), only its edges are rastered, and
+// the cells between them in a column are those whose centre line lies inside (a cell that
+// touches the chart either meets its border or is inside it): the cost follows the border.
 Footprint footprint(const std::vector<Eigen::Vector2d>& p,
-                    const std::vector<std::array<int, 3>>& triangles, double margin, int reach,
-                    int size) {
+                    const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& loop,
+                    double margin, int reach, int size) {
   Footprint fp;
   fp.reach = reach;
   const auto [low, high] = boundsOf(p);
@@ -131,14 +137,42 @@ Footprint footprint(const std::vector<Eigen::Vector2d>& p,
   fp.width = static_cast<int>(std::floor(high.x() + margin - fp.base.x())) + 1;
   fp.height = static_cast<int>(std::floor(high.y() + margin - fp.base.y())) + 1;
   fp.cells.resize(fp.width);
-  for (const auto& t : triangles) {
-    Eigen::Vector2d q[3];
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector2d r = p[t[k]] - fp.base;
-      q[k] = Eigen::Vector2d(r.y(), r.x());  // transposed: a row of q is a column of cells
+  // Transposed: a row of q is a column of cells.
+  auto transposed = [&](int v) {
+    const Eigen::Vector2d r = p[v] - fp.base;
+    return Eigen::Vector2d(r.y(), r.x());
+  };
+  auto addSpan = [&](int x, int y0, int y1) { fp.cells[x].emplace_back(y0, y1); };
+  if (loop.size() >= 3) {
+    std::vector<std::vector<double>> crossings(fp.width);
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const Eigen::Vector2d a = p[loop[i]] - fp.base, b = p[loop[(i + 1) % loop.size()]] - fp.base;
+      const Eigen::Vector2d q[3] = {transposed(loop[i]), transposed(loop[(i + 1) % loop.size()]),
+                                    transposed(loop[(i + 1) % loop.size()])};
+      conservativeSpans(q, margin, fp.height, fp.width, addSpan);
+      // Where the edge crosses the centre lines x = c + 1/2 of the columns it spans.
+      const int c0 = std::max(0, static_cast<int>(std::ceil(std::min(a.x(), b.x()) - 0.5)));
+      const int c1 = std::min(fp.width - 1, static_cast<int>(std::floor(std::max(a.x(), b.x()))));
+      for (int c = c0; c <= c1; ++c) {
+        const double line = c + 0.5;
+        if ((a.x() < line) != (b.x() < line))
+          crossings[c].push_back(a.y() + (b.y() - a.y()) * (line - a.x()) / (b.x() - a.x()));
+      }
     }
-    conservativeSpans(q, margin, fp.height, fp.width,
-                      [&](int x, int y0, int y1) { fp.cells[x].emplace_back(y0, y1); });
+    for (int c = 0; c < fp.width; ++c) {
+      std::vector<double>& ys = crossings[c];
+      std::sort(ys.begin(), ys.end());
+      for (size_t i = 0; i + 1 < ys.size(); i += 2) {
+        const int y0 = std::max(0, static_cast<int>(std::floor(ys[i])));
+        const int y1 = std::min(fp.height - 1, static_cast<int>(std::floor(ys[i + 1])));
+        if (y0 <= y1) addSpan(c, y0, y1);
+      }
+    }
+  } else {
+    for (const auto& t : triangles) {
+      const Eigen::Vector2d q[3] = {transposed(t[0]), transposed(t[1]), transposed(t[2])};
+      conservativeSpans(q, margin, fp.height, fp.width, addSpan);
+    }
   }
   for (Runs& column : fp.cells) mergeRuns(column);
   // Grown: column j gathers the runs of columns j - 2 reach ... j, each widened by reach.
@@ -222,8 +256,8 @@ class Occupancy {
 // spot (lowest top, then lowest, then leftmost, over four quarter turns); returns the strip's
 // used height, or INT_MAX when a chart is wider than the texture.
 int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
-           const std::vector<int>& order, double scale, const PackOptions& options,
-           std::vector<Placement>& placements) {
+           const std::vector<std::vector<int>>& loops, const std::vector<int>& order, double scale,
+           const PackOptions& options, std::vector<Placement>& placements) {
   const int size = options.texture_size;
   const int reach = std::max(options.gutter - 1, 0);
   Occupancy occupancy(size);
@@ -241,7 +275,7 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
       // A quarter turn (x, y) -> (-y, x) is exact in floating point.
       if (turn > 0)
         for (Eigen::Vector2d& q : p) q = Eigen::Vector2d(-q.y(), q.x());
-      Footprint fp = footprint(p, charts[c].triangles, options.margin, reach, size);
+      Footprint fp = footprint(p, charts[c].triangles, loops[c], options.margin, reach, size);
       if (fp.width > size || fp.height > size) continue;
       const int last = size - fp.width;
       // Every `stride`-th column (at most 256 of them), then every column around the best.
@@ -273,6 +307,40 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
   return occupancy.top();
 }
 
+// Finds the largest scale at which the charts, dropped in `order`, fit the texture, and their
+// places there; `aim` is a scale to try first, and with `must_beat` the search stops when the
+// charts do not fit at it. Returns 0 when nothing fit.
+double largestFittingScale(const std::vector<ChartShape>& charts,
+                           const std::vector<Eigen::Matrix2d>& box,
+                           const std::vector<std::vector<int>>& loops,
+                           const std::vector<int>& order, double aim, bool must_beat,
+                           const PackOptions& options, std::vector<Placement>& placements,
+                           int& attempts) {
+  const int size = options.texture_size;
+  // Packed into a strip as wide as the texture, the used height grows about as the scale: each
+  // try aims at the height of the texture from the last, between the largest scale that fit and
+  // the smallest that did not.
+  std::vector<Placement> trial(charts.size());
+  double fits = 0, fails = std::numeric_limits<double>::infinity(), scale = aim;
+  for (int attempt = 0; attempt < 10 && fails > 1.005 * fits; ++attempt) {
+    ++attempts;
+    const int height = packAt(charts, box, loops, order, scale, options, trial);
+    if (height <= size) {
+      fits = scale;
+      placements = trial;
+    } else {
+      fails = scale;
+      if (must_beat && fits == 0) return 0;
+    }
+    double next =
+        height == INT_MAX ? 0.5 * scale : scale * std::sqrt(double(size) / height) * 0.998;
+    if (!(next > fits && next < fails))
+      next = std::isfinite(fails) ? 0.5 * (fits + fails) : 1.05 * scale;
+    scale = next;
+  }
+  return fits;
+}
+
 }  // namespace
 
 double uvArea(const std::vector<Eigen::Vector2d>& uv,
@@ -282,61 +350,58 @@ double uvArea(const std::vector<Eigen::Vector2d>& uv,
   return area;
 }
 
-double boxFill(const std::vector<Eigen::Vector2d>& uv,
-               const std::vector<std::array<int, 3>>& triangles) {
-  if (uv.size() < 3) return 0;
-  const double box = boundsOf(uv, smallestBoxRotation(uv)).extent().prod();
-  return box > 0 ? uvArea(uv, triangles) / box : 0;
-}
-
 Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& options) {
   Packing packing;
   const int n = static_cast<int>(charts.size());
   packing.placements.resize(n);
   if (n == 0) return packing;
   std::vector<Eigen::Matrix2d> box(n);
+  std::vector<std::vector<int>> loops(n);
+  std::vector<Eigen::Vector2d> extent(n);
   std::vector<double> area(n, 0.0);
-  double total = 0;
+  double total = 0, longest = 0;
   for (int c = 0; c < n; ++c) {
     box[c] = smallestBoxRotation(charts[c].uv);
+    loops[c] = boundaryLoop(charts[c].triangles);
+    extent[c] = boundsOf(charts[c].uv, box[c]).extent();
     area[c] = uvArea(charts[c].uv, charts[c].triangles);
     total += area[c];
+    longest = std::max(longest, extent[c].maxCoeff());
   }
-  // Largest first; ties by index, so the same order on every run.
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
-
   const int size = options.texture_size;
   // At `full` the charts' area would fill the square exactly: no packing does better.
   const double full =
       size / std::sqrt(std::max(total, std::numeric_limits<double>::min())) * options.shrink;
-  // Packed into a strip as wide as the texture, the used height grows about as the scale: each
-  // try aims at the height of the texture from the last, between the largest scale that fit and
-  // the smallest that did not.
-  std::vector<Placement> trial(n);
-  double fits = 0, fails = std::numeric_limits<double>::infinity();
   // No chart can be longer than the texture: the first try is below that, not found by halving.
-  double longest = 0;
-  for (int c = 0; c < n; ++c) {
-    longest = std::max(longest, boundsOf(charts[c].uv, box[c]).extent().maxCoeff());
-  }
-  double scale = 0.85 * full;
-  if (longest > 0 && scale * longest > size - 2) scale = (size - 2) / longest;
-  for (int attempt = 0; attempt < 10 && fails > 1.005 * fits; ++attempt) {
-    ++packing.attempts;
-    const int height = packAt(charts, box, order, scale, options, trial);
-    if (height <= size) {
+  double aim = 0.85 * full;
+  if (longest > 0 && aim * longest > size - 2) aim = (size - 2) / longest;
+
+  // A greedy packer's result turns on the order the charts come in: four orders, largest first
+  // by area, by long side, by short side and by bounding rectangle, each kept only when it packs
+  // at a larger scale than the best so far (one try each when it does not). Ties by index, so the
+  // same order on every run. Above kMostChartsForOrders charts, where a try is long and many
+  // small charts fill the gaps whatever the order, by area only.
+  constexpr int kMostChartsForOrders = 50;
+  const int orders = n <= kMostChartsForOrders ? 4 : 1;
+  std::vector<Placement> trial(n);
+  double fits = 0;
+  for (int kind = 0; kind < orders; ++kind) {
+    std::vector<double> key(n);
+    for (int c = 0; c < n; ++c)
+      key[c] = kind == 0   ? area[c]
+               : kind == 1 ? extent[c].maxCoeff()
+               : kind == 2 ? extent[c].minCoeff()
+                           : extent[c].prod();
+    std::vector<int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] > key[b]; });
+    const double scale =
+        largestFittingScale(charts, box, loops, order, kind == 0 ? aim : 1.005 * fits, kind > 0,
+                            options, trial, packing.attempts);
+    if (scale > fits) {
       fits = scale;
       packing.placements = trial;
-    } else {
-      fails = scale;
     }
-    double next =
-        height == INT_MAX ? 0.5 * scale : scale * std::sqrt(double(size) / height) * 0.998;
-    if (!(next > fits && next < fails))
-      next = std::isfinite(fails) ? 0.5 * (fits + fails) : 1.05 * scale;
-    scale = next;
   }
   if (fits == 0)
     throw ParameterizationError(std::to_string(n) + " charts do not fit a " + std::to_string(size) +

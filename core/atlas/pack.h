@@ -1,8 +1,10 @@
 // Packing charts into the unit square at one scale (docs/method.md §7): each chart is turned to
 // its smallest bounding rectangle, then charts, largest first, drop onto a skyline of texel
-// columns (a Tetris-like packer, as in Lévy et al. 2002) at the spot that wastes the least area
-// under them, trying four quarter turns (never a mirror). A chart is placed by the cells it
-// touches (raster.h, conservative), grown by gutter - 1 cells, so no covered pixel of one chart
+// columns (a Tetris-like packer, as in Lévy et al. 2002) at their lowest free spot (lowest top
+// edge, then lowest, then leftmost), trying four quarter turns (never a mirror), holes below the
+// skyline included. "Largest" is tried in four senses (area, long side, short side, bounding
+// rectangle) and the order that packs at the largest scale is kept. A chart is placed by the cells
+// it touches (raster.h, conservative), grown by gutter - 1 cells, so no covered pixel of one chart
 // comes within gutter - 1 pixels of another's, whatever the rounding of the stored values. The
 // scale is the largest that fits, found by bisection.
 #pragma once
@@ -49,10 +51,9 @@ struct PackOptions {
 double uvArea(const std::vector<Eigen::Vector2d>& uv,
               const std::vector<std::array<int, 3>>& triangles);
 
-// The chart's area over the area of its smallest bounding rectangle (0 when it has none): how
-// much of the room it asks for in a packing it fills.
-double boxFill(const std::vector<Eigen::Vector2d>& uv,
-               const std::vector<std::array<int, 3>>& triangles);
+// The rotation that lays the chart's smallest bounding rectangle (one side on a hull edge) with
+// its long side along x.
+Eigen::Matrix2d smallestBoxRotation(const std::vector<Eigen::Vector2d>& uv);
 
 // Throws ParameterizationError when the charts cannot fit at any scale above a texel per chart
 // (more charts than the texture can hold).

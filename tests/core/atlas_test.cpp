@@ -7,12 +7,15 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <numeric>
 
 #include "core/atlas/atlas.h"
 #include "core/atlas/charts.h"
+#include "core/atlas/convex_cut.h"
 #include "core/atlas/measure.h"
+#include "core/atlas/pack.h"
 #include "core/atlas/raster.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
@@ -376,6 +379,108 @@ INSTANTIATE_TEST_SUITE_P(Shared, ClosedMesh,
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;
                          });
+
+// The cells of an n x n grid of unit squares that `keep` holds, as a flat chart of two
+// counter-clockwise triangles per cell (shared corners shared).
+ChartShape gridChart(int n, const std::function<bool(int, int)>& keep) {
+  ChartShape chart;
+  std::map<std::pair<int, int>, int> index;
+  auto corner = [&](int x, int y) {
+    auto [it, added] = index.emplace(std::make_pair(x, y), static_cast<int>(chart.uv.size()));
+    if (added) chart.uv.emplace_back(x, y);
+    return it->second;
+  };
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      if (!keep(x, y)) continue;
+      const int a = corner(x, y), b = corner(x + 1, y), c = corner(x + 1, y + 1),
+                d = corner(x, y + 1);
+      chart.triangles.push_back({a, b, c});
+      chart.triangles.push_back({a, c, d});
+    }
+  return chart;
+}
+
+TEST(AtlasConvexCut, BoundaryLoopIsOneLoopOrNothing) {
+  const ChartShape square = gridChart(4, [](int, int) { return true; });
+  const std::vector<int> loop = boundaryLoop(square.triangles);
+  ASSERT_EQ(loop.size(), 16u);  // the 16 grid corners on the square's sides, in order
+  for (size_t i = 0; i < loop.size(); ++i)
+    EXPECT_NEAR((square.uv[loop[i]] - square.uv[loop[(i + 1) % loop.size()]]).norm(), 1.0, 1e-12);
+  // Two cells touching at one corner: the boundary passes that corner twice, not one loop.
+  const ChartShape pinched = gridChart(2, [](int x, int y) { return x == y; });
+  EXPECT_TRUE(boundaryLoop(pinched.triangles).empty());
+}
+
+TEST(AtlasConvexCut, AnLShapeIsCutAcrossItsArmAConvexChartIsNot) {
+  // A 20 x 20 square without its 14 x 14 top right: two arms 6 wide meeting in a corner.
+  const ChartShape l_shape = gridChart(20, [](int x, int y) { return x < 6 || y < 6; });
+  const std::optional<ConvexCut> cut = bestConvexCut(l_shape.uv, l_shape.triangles, 0.05);
+  ASSERT_TRUE(cut.has_value());
+  // The hull (400 - 14^2 / 2 = 302) against the L's area (204): a cut where an arm meets the
+  // corner square leaves two rectangles, whose hulls are their areas; the offsets tried are
+  // 32nds of the width, so the cut falls within 0.625 of that.
+  EXPECT_GT(cut->hull_gain, 0.95 * (302 - 204));
+  EXPECT_LE(cut->hull_gain, 302 - 204 + 1e-9);
+  EXPECT_NEAR(cut->length, 6, 1e-9);  // across an arm, not along it
+  EXPECT_NEAR(std::abs(cut->normal.x()) + std::abs(cut->normal.y()), 1, 1e-9);  // axis-aligned
+
+  const ChartShape square = gridChart(10, [](int, int) { return true; });
+  EXPECT_FALSE(bestConvexCut(square.uv, square.triangles, 0.05).has_value());
+  // A long rectangle has no cut that removes hull area; the middle cut halves its length.
+  const ChartShape strip = gridChart(20, [](int, int y) { return y < 2; });
+  double extent = 0;
+  const ConvexCut middle = middleCut(strip.uv, extent);
+  EXPECT_NEAR(extent, 20, 1e-9);
+  EXPECT_NEAR(std::abs(middle.normal.x()), 1, 1e-9);
+  EXPECT_NEAR(middle.offset * middle.normal.x(), 10, 1e-9);
+}
+
+TEST(AtlasPack, ConcaveChartsInterlockWithoutOverlapOrGutterBreach) {
+  // Twelve L-shaped charts and forty small squares (each footprint rastered from the chart's
+  // border and the column lines inside it), packed and checked pixel by pixel at several gutters.
+  std::vector<ChartShape> charts;
+  for (int i = 0; i < 12; ++i)
+    charts.push_back(gridChart(8 + i % 4, [&](int x, int y) { return x < 3 || y < 2 + i % 3; }));
+  // And small squares, which would drop into a large chart's inside if its footprint missed it.
+  for (int i = 0; i < 40; ++i) charts.push_back(gridChart(1, [](int, int) { return true; }));
+  // Corners off the grid (each moved by up to 0.2 cell): with every corner on a lattice, pixel
+  // centres fall on shared corners, where the stored checks' rounding is not this test's subject.
+  for (ChartShape& chart : charts)
+    for (size_t v = 0; v < chart.uv.size(); ++v)
+      chart.uv[v] += 0.2 * Eigen::Vector2d(std::sin(12.9898 * v), std::cos(78.233 * v));
+  for (int gutter : {1, 2, 4}) {
+    PackOptions options;
+    options.texture_size = 512;
+    options.gutter = gutter;
+    const Packing packing = packCharts(charts, options);
+    Layout layout;
+    int rows = 0, faces = 0;
+    for (const ChartShape& c : charts) rows += c.uv.size(), faces += c.triangles.size();
+    layout.uv.resize(rows, 2);
+    layout.face_uv.resize(faces, 3);
+    layout.chart.resize(faces);
+    double area = 0;
+    for (int c = 0, row = 0, f = 0; c < static_cast<int>(charts.size()); ++c) {
+      for (size_t v = 0; v < charts[c].uv.size(); ++v)
+        layout.uv.row(row + v) = packing.apply(c, charts[c].uv[v], 512).transpose();
+      for (const auto& t : charts[c].triangles) {
+        layout.face_uv.row(f) << row + t[0], row + t[1], row + t[2];
+        layout.chart[f++] = c;
+      }
+      row += charts[c].uv.size();
+      area += uvArea(charts[c].uv, charts[c].triangles);
+    }
+    EXPECT_LE(layout.uv.maxCoeff(), 1.0);
+    EXPECT_GE(layout.uv.minCoeff(), 0.0);
+    const PixelMeasures pixels = measurePixels(layout, layout.chart, 512, gutter);
+    EXPECT_EQ(pixels.overlapping_pixels, 0) << gutter;
+    EXPECT_EQ(pixels.gutter_violations, 0) << gutter;
+    // The L's interlock: more of the square is used than their bounding boxes would allow.
+    EXPECT_GT(area * packing.texels_per_unit * packing.texels_per_unit / (512.0 * 512.0), 0.5)
+        << gutter;
+  }
+}
 
 TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
   // A flat square grid, each cell cut by the same diagonal: two parts grown from far seeds meet

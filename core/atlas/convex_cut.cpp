@@ -1,0 +1,162 @@
+#include "convex_cut.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <utility>
+
+#include "pack.h"
+
+namespace sdp::atlas {
+namespace {
+
+double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+}
+
+// The area of the convex hull of the points (Andrew's monotone chain).
+double hullArea(std::vector<Eigen::Vector2d> points) {
+  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+  });
+  if (points.size() < 3) return 0;
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0) --k;
+    hull[k++] = points[i - 1];
+  }
+  double area = 0;
+  for (size_t i = 2; i + 1 < k; ++i) area += 0.5 * cross(hull[0], hull[i - 1], hull[i]);
+  return area;
+}
+
+double polygonArea(const std::vector<Eigen::Vector2d>& p) {
+  double area = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector2d& a = p[i];
+    const Eigen::Vector2d& b = p[(i + 1) % p.size()];
+    area += 0.5 * (a.x() * b.y() - a.y() * b.x());
+  }
+  return area;
+}
+
+// The polygon clipped to the side {x : side * (normal . x - offset) <= 0} (Sutherland-Hodgman):
+// for a polygon that is not convex the pieces come joined along the line, which leaves their
+// area and their hull right.
+std::vector<Eigen::Vector2d> clip(const std::vector<Eigen::Vector2d>& polygon,
+                                  const std::vector<double>& height, double offset, double side) {
+  std::vector<Eigen::Vector2d> out;
+  const size_t n = polygon.size();
+  for (size_t i = 0; i < n; ++i) {
+    const size_t j = (i + 1) % n;
+    const double a = side * (height[i] - offset), b = side * (height[j] - offset);
+    if (a <= 0) out.push_back(polygon[i]);
+    if ((a < 0 && b > 0) || (a > 0 && b < 0))
+      out.push_back(polygon[i] + (polygon[j] - polygon[i]) * (a / (a - b)));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> boundaryLoop(const std::vector<std::array<int, 3>>& triangles) {
+  std::map<std::pair<int, int>, int> count;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  std::map<int, int> next;  // boundary half-edges, as the faces run
+  size_t edges = 0;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (count[{std::min(a, b), std::max(a, b)}] != 1) continue;
+      if (!next.emplace(a, b).second) return {};  // two boundary edges leave a: not one loop
+      ++edges;
+    }
+  if (next.empty()) return {};
+  std::vector<int> loop;
+  for (int v = next.begin()->first;;) {
+    loop.push_back(v);
+    const auto it = next.find(v);
+    if (it == next.end() || loop.size() > edges) return {};
+    v = it->second;
+    if (v == loop.front()) break;
+  }
+  if (loop.size() != edges) return {};
+  return loop;
+}
+
+std::optional<ConvexCut> bestConvexCut(const std::vector<Eigen::Vector2d>& uv,
+                                       const std::vector<std::array<int, 3>>& triangles,
+                                       double min_share) {
+  std::vector<Eigen::Vector2d> polygon;
+  for (int v : boundaryLoop(triangles)) polygon.push_back(uv[v]);
+  if (polygon.size() < 4) return std::nullopt;
+  const double area = polygonArea(polygon);
+  const double hull = hullArea(polygon);
+  if (!(area > 0) || !(hull > area)) return std::nullopt;
+  constexpr int kDirections = 16, kOffsets = 32;
+  std::optional<ConvexCut> best;
+  double best_score = 0;
+  std::vector<double> height(polygon.size());
+  for (int d = 0; d < kDirections; ++d) {
+    const double angle = M_PI * d / kDirections;  // a line and its reverse are the same cut
+    const Eigen::Vector2d normal(std::cos(angle), std::sin(angle));
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      height[i] = normal.dot(polygon[i]);
+      low = std::min(low, height[i]), high = std::max(high, height[i]);
+    }
+    for (int o = 1; o < kOffsets; ++o) {
+      const double offset = low + (high - low) * o / kOffsets;
+      const std::vector<Eigen::Vector2d> below = clip(polygon, height, offset, 1);
+      const std::vector<Eigen::Vector2d> above = clip(polygon, height, offset, -1);
+      const double below_area = polygonArea(below), above_area = polygonArea(above);
+      if (below_area < min_share * area || above_area < min_share * area) continue;
+      const double gain = hull - hullArea(below) - hullArea(above);
+      if (!(gain > 0)) continue;
+      // The line's length inside the chart: its crossings with the border, paired in order.
+      std::vector<double> along;
+      const Eigen::Vector2d tangent(-normal.y(), normal.x());
+      for (size_t i = 0; i < polygon.size(); ++i) {
+        const size_t j = (i + 1) % polygon.size();
+        const double a = height[i] - offset, b = height[j] - offset;
+        if ((a < 0) != (b < 0))
+          along.push_back(tangent.dot(polygon[i] + (polygon[j] - polygon[i]) * (a / (a - b))));
+      }
+      // A line crossing the border more than twice would cut off several pieces: one new chart
+      // per cut keeps the count down.
+      if (along.size() != 2) continue;
+      const double length = std::abs(along[1] - along[0]);
+      if (!(length > 0)) continue;
+      const double score = gain / length;
+      if (score > best_score) {
+        best_score = score;
+        best = ConvexCut{normal, offset, gain, length};
+      }
+    }
+  }
+  return best;
+}
+
+ConvexCut middleCut(const std::vector<Eigen::Vector2d>& uv, double& extent) {
+  const Eigen::Vector2d axis = smallestBoxRotation(uv).row(0).transpose();
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const Eigen::Vector2d& p : uv)
+    low = std::min(low, axis.dot(p)), high = std::max(high, axis.dot(p));
+  extent = uv.empty() ? 0 : high - low;
+  ConvexCut cut;
+  cut.normal = axis;
+  cut.offset = 0.5 * (low + high);
+  return cut;
+}
+
+}  // namespace sdp::atlas
