@@ -1,7 +1,9 @@
 // Development probe: the atlas of one mesh, its measures as stored (not part of the product).
+//   sdp_atlas_probe MESH [max_chart_stretch [texture_size [OUT.obj|- [work_factor]]]]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "core/atlas/atlas.h"
 #include "core/atlas/measure.h"
@@ -13,6 +15,11 @@ int main(int argc, char** argv) {
   sdp::atlas::AtlasOptions o;
   if (argc > 2) o.max_chart_stretch = std::atof(argv[2]);
   if (argc > 3) o.texture_size = std::atoi(argv[3]);
+  // The charts' refinement work factor (the CLI's --time-budget; 0: no limit).
+  if (argc > 5) {
+    o.chart.refine_work_factor = std::atof(argv[5]);
+    if (o.chart.refine_work_factor == 0) o.chart.refine_min_work = 0;
+  }
   const auto start = std::chrono::steady_clock::now();
   auto r = sdp::atlas::makeAtlas(mesh.V, mesh.F, o);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -25,5 +32,6 @@ int main(int argc, char** argv) {
       m.outside_faces, s);
   for (auto& [k, v] : r.report.stage_seconds) std::printf("  %s %.2f", k.c_str(), v);
   std::printf("\n");
-  if (argc > 4) sdp::io::writeObjWithTexture(argv[4], mesh.V, mesh.F, r.layout, "checker.png");
+  if (argc > 4 && std::string(argv[4]) != "-")
+    sdp::io::writeObjWithTexture(argv[4], mesh.V, mesh.F, r.layout, "checker.png");
 }

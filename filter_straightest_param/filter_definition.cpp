@@ -378,7 +378,8 @@ const std::vector<ParameterDescription>& atlasParameters() {
              "Each chart's refinement may do F times its linear map's work, and the atlas "
              "shares one floor for all its charts; 0: no limit. Counted, not timed: the same "
              "atlas on every run.",
-             static_cast<int>(sdp::kDefaultRefineWorkFactor), 0, 1000, &FilterValues::time_budget),
+             static_cast<int>(sdp::atlas::kDefaultAtlasRefineWorkFactor), 0, 1000,
+             &FilterValues::time_budget),
       boolRow("selectedonly", "", "Selected faces only",
               "Make the atlas of the selected faces only; other faces keep their texture "
               "coordinates.",
@@ -403,7 +404,7 @@ sdp::atlas::AtlasOptions toAtlasOptions(const FilterValues& values) {
   }
   if (values.texture_name.empty()) throw ParameterizationError("the texture file name is empty");
   sdp::atlas::AtlasOptions options;
-  options.chart = sdp::productDefaults();
+  options.chart = sdp::atlas::atlasChartDefaults();
   options.chart.stretch_iterations = values.stretch_iterations;
   options.chart.refine_work_factor = values.time_budget;
   if (values.time_budget == 0) options.chart.refine_min_work = 0;
