@@ -15,24 +15,11 @@ double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Ve
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
 }
 
-// The area of the convex hull of the points (Andrew's monotone chain).
+// The area of the convex hull of the points (pack.h's hull, fanned from its first corner).
 double hullArea(std::vector<Eigen::Vector2d> points) {
-  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
-  });
-  if (points.size() < 3) return 0;
-  std::vector<Eigen::Vector2d> hull(2 * points.size());
-  size_t k = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  for (size_t i = points.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0) --k;
-    hull[k++] = points[i - 1];
-  }
+  const std::vector<Eigen::Vector2d> hull = convexHull(std::move(points));
   double area = 0;
-  for (size_t i = 2; i + 1 < k; ++i) area += 0.5 * cross(hull[0], hull[i - 1], hull[i]);
+  for (size_t i = 2; i < hull.size(); ++i) area += 0.5 * cross(hull[0], hull[i - 1], hull[i]);
   return area;
 }
 

@@ -17,7 +17,8 @@ double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Ve
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
 }
 
-// Andrew's monotone chain: the convex hull, counter-clockwise.
+}  // namespace
+
 std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points) {
   std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
@@ -37,6 +38,8 @@ std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points) {
   hull.resize(k - 1);
   return hull;
 }
+
+namespace {
 
 // An axis-aligned rectangle, by its lowest and highest corners.
 struct Bounds {

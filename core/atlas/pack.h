@@ -51,6 +51,9 @@ struct PackOptions {
 double uvArea(const std::vector<Eigen::Vector2d>& uv,
               const std::vector<std::array<int, 3>>& triangles);
 
+// The convex hull of the points, counter-clockwise without repeats (Andrew's monotone chain).
+std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points);
+
 // The rotation that lays the chart's smallest bounding rectangle (one side on a hull edge) with
 // its long side along x.
 Eigen::Matrix2d smallestBoxRotation(const std::vector<Eigen::Vector2d>& uv);
