@@ -8,6 +8,7 @@
 
 #include "convex_cut.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "raster.h"
 
 namespace sdp::atlas {
@@ -255,6 +256,9 @@ class Occupancy {
   int top_ = 0;
 };
 
+// Charts with at least this many points have their four quarter turns searched on two cores.
+constexpr size_t kFewestPointsForParallelTurns = 300;
+
 // Packs every chart at `scale` into a strip as wide as the texture, each at its lowest free
 // spot (lowest top, then lowest, then leftmost, over four quarter turns); returns the strip's
 // used height, or INT_MAX when a chart is wider than the texture.
@@ -271,37 +275,49 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
         return top != o.top ? top < o.top : y != o.y ? y < o.y : x < o.x;
       }
     } best;
-    Footprint chosen;
     std::vector<Eigen::Vector2d> p(charts[c].uv.size());
     for (size_t i = 0; i < p.size(); ++i) p[i] = box[c] * charts[c].uv[i] * scale;
-    for (int turn = 0; turn < 4; ++turn) {
+    // Each quarter turn searched on its own (so in parallel, with the same result on any number
+    // of cores), then the best taken in turn order.
+    Footprint turned[4];
+    Spot spots[4];
+    auto searchTurn = [&](int turn) {
+      std::vector<Eigen::Vector2d> q = p;
       // A quarter turn (x, y) -> (-y, x) is exact in floating point.
-      if (turn > 0)
-        for (Eigen::Vector2d& q : p) q = Eigen::Vector2d(-q.y(), q.x());
-      Footprint fp = footprint(p, charts[c].triangles, loops[c], options.margin, reach, size);
-      if (fp.width > size || fp.height > size) continue;
+      for (int t = 0; t < turn; ++t)
+        for (Eigen::Vector2d& v : q) v = Eigen::Vector2d(-v.y(), v.x());
+      Footprint& fp = turned[turn];
+      fp = footprint(q, charts[c].triangles, loops[c], options.margin, reach, size);
+      if (fp.width > size || fp.height > size) return;
       const int last = size - fp.width;
-      // Every `stride`-th column (at most 256 of them), then every column around the best.
+      // Every `stride`-th column (at most 256 of them), then around the best in halving steps.
       const int stride = std::max({1, fp.width / 8, size / 256});
-      Spot local;
+      Spot& local = spots[turn];
       auto tryAt = [&](int x) {
         // Spots that cannot beat the best so far are not searched.
-        const int bound = std::min(best.top, local.top);
         const int y =
-            occupancy.lowestFree(fp, x, bound == INT_MAX ? INT_MAX : bound - fp.height + 1);
+            occupancy.lowestFree(fp, x, local.top == INT_MAX ? INT_MAX : local.top - fp.height + 1);
         if (y == INT_MAX) return;
         const Spot spot{y + fp.height, y, x, turn};
         if (spot < local) local = spot;
       };
       for (int x = 0; x <= last; x += stride) tryAt(x);
-      const int around = local.x;
-      for (int x = std::max(0, around - stride + 1); x <= std::min(last, around + stride - 1); ++x)
-        tryAt(x);
-      if (local < best) {
-        best = local;
-        chosen = std::move(fp);
+      for (int step = stride / 2; step >= 1; step /= 2) {
+        const int around = local.x;
+        if (around - step >= 0) tryAt(around - step);
+        if (around + step <= last) tryAt(around + step);
       }
-    }
+    };
+    // Threads only pay for themselves on charts with long borders.
+    if (p.size() >= kFewestPointsForParallelTurns)
+      parallelFor(4, 1, [&](int begin, int end, int) {
+        for (int turn = begin; turn < end; ++turn) searchTurn(turn);
+      });
+    else
+      for (int turn = 0; turn < 4; ++turn) searchTurn(turn);
+    for (int turn = 0; turn < 4; ++turn)
+      if (spots[turn] < best) best = spots[turn];
+    const Footprint& chosen = turned[best.turn];
     if (best.top == INT_MAX) return INT_MAX;
     occupancy.occupy(chosen, best.x, best.y);
     placements[c].rotation = quarterTurn(best.turn) * box[c];
