@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <optional>
 #include <sstream>
@@ -115,6 +116,63 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
   }
 }
 
+// The part of a flattened chart on the faces of `faces` (a subset of its own), keeping its
+// texture coordinates: a restriction of a one-to-one map is one-to-one. Stretch is measured
+// anew with the part's own normalization, both frames centred and scaled to unit size as in
+// layoutStretch (metrics.h).
+Chart restrictedChart(const Positions& V, const Triangles& F, const Chart& parent,
+                      const std::vector<int>& faces, std::vector<int>& scratch) {
+  // scratch: per input face its index in parent.faces (filled here, reset on return).
+  for (size_t i = 0; i < parent.faces.size(); ++i) scratch[parent.faces[i]] = static_cast<int>(i);
+  Chart chart;
+  chart.faces = faces;
+  chart.corner_row.resize(faces.size());
+  std::vector<int> row_of(parent.uv.size(), -1);
+  Eigen::Vector3d low3 = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector3d high3 = -low3;
+  Eigen::Vector2d low2 = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high2 = -low2;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const auto& rows = parent.corner_row[scratch[faces[i]]];
+    for (int k = 0; k < 3; ++k) {
+      int& row = row_of[rows[k]];
+      if (row < 0) {
+        row = static_cast<int>(chart.uv.size());
+        chart.uv.push_back(parent.uv[rows[k]]);
+      }
+      chart.corner_row[i][k] = row;
+      const Eigen::Vector3d q = V.row(F(faces[i], k)).transpose();
+      low3 = low3.cwiseMin(q), high3 = high3.cwiseMax(q);
+      low2 = low2.cwiseMin(chart.uv[row]), high2 = high2.cwiseMax(chart.uv[row]);
+    }
+  }
+  for (int f : parent.faces) scratch[f] = kOutside;
+  const double size3 = std::max((high3 - low3).maxCoeff(), std::numeric_limits<double>::min());
+  const double size2 = std::max((high2 - low2).maxCoeff(), std::numeric_limits<double>::min());
+  double area2d = 0, area3d = 0, weighted = 0, worst = 0;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    Eigen::Vector3d q[3];
+    Eigen::Vector2d p[3];
+    for (int k = 0; k < 3; ++k) {
+      q[k] = (V.row(F(faces[i], k)).transpose() - 0.5 * (low3 + high3)) / size3;
+      p[k] = (chart.uv[chart.corner_row[i][k]] - 0.5 * (low2 + high2)) / size2;
+    }
+    const FaceStretch s = faceStretch(q, p);
+    area2d += s.area2d, area3d += s.area3d;
+    weighted += s.l2 * s.l2 * s.area3d;
+    worst = std::max(worst, s.linf);
+    const Eigen::Vector3d a = V.row(F(faces[i], 0)), b = V.row(F(faces[i], 1)),
+                          c = V.row(F(faces[i], 2));
+    chart.report.area += 0.5 * (b - a).cross(c - a).norm();  // as flattenChart measures it
+  }
+  const double normalize = std::sqrt(std::abs(area2d) / area3d);
+  chart.report.faces = static_cast<int>(faces.size());
+  chart.report.l2_stretch = std::sqrt(weighted / area3d) * normalize;
+  chart.report.linf_stretch = worst * normalize;
+  chart.report.boundary_used = parent.report.boundary_used;
+  return chart;
+}
+
 void checkInput(const Positions& V, const Triangles& F, const AtlasOptions& options) {
   if (F.rows() == 0) throw ParameterizationError("the mesh has no faces");
   if (options.texture_size < 64 || options.texture_size > 16384)
@@ -157,9 +215,12 @@ std::vector<std::vector<int>> components(const FaceGraph& g) {
   return pieces;
 }
 
-// Faces per part when a piece that is not a disk is first cut: pieces of fewer than twice this
-// (the shared closed models, up to 86k faces) are halved.
-constexpr size_t kFacesPerFirstPart = 60000;
+// Faces per part when a piece that is not a disk is first cut (pieces of fewer than twice this
+// are halved): near the size of the charts that stay (armadillo: 86k faces, 51 charts), so that
+// few large parts are flattened only to be split again. On the atlas bench, 60000 -> 10000 took
+// the probe's time from 20.8 to 16.2 s with 604 charts instead of 618 (the 1.38M-face armadillo:
+// 23 s, 204 charts); 5000 split the bumpy cube and the bunny more.
+constexpr size_t kFacesPerFirstPart = 10000;
 
 // Straight cuts of flattened charts (convex_cut.h), lengths in units of √(mesh area), areas in
 // units of the mesh area; chosen with the atlas bench (docs/measurements.md): a chart longer
@@ -172,6 +233,10 @@ constexpr double kLongestChart = 1.0;
 // the atlas bench, median L∞ 2.45 -> 2.13 for 3 % more charts (3 gave 1.95 for 6 %).
 constexpr double kMostChartLinf = 4.0;
 constexpr size_t kFewestFacesToSplitForLinf = 50;
+// A piece cut out of a flattened chart keeps its part of the chart's map when within the chart
+// limits and its worst face stretches at most kMostKeptLinf; else it is flattened anew, which
+// relaxes it: on the atlas bench, median L∞ 2.49 without this rule, 1.98 with it.
+constexpr double kMostKeptLinf = 2.0;
 constexpr double kCutWorth = 0.1;
 constexpr double kCutMinGain = 0.005;
 constexpr double kCutMinSide = 0.05;
@@ -236,33 +301,62 @@ class AtlasBuilder {
     if (cancelled_) throw ParameterizationError("cancelled by the user");
   }
 
+  // A set of faces still to be charted, with the part of an earlier map it may keep.
+  struct Piece {
+    std::vector<int> faces;
+    std::optional<Chart> map;  // from a flattened chart this piece was cut out of
+  };
+
+  // Whether a flattened chart's stretch is within the atlas's limits (else it is split).
+  bool stretchAccepted(const Chart& chart) const {
+    return chart.report.l2_stretch <= options_.max_chart_stretch &&
+           !(chart.report.linf_stretch > kMostChartLinf &&
+             chart.faces.size() > kFewestFacesToSplitForLinf);
+  }
+
   // Charts: each piece that is not a disk is split; each disk is flattened, and split again when
   // its stretch is above the limit or the patch pipeline refused it; one face is a chart alone.
-  void makeCharts(const FaceGraph& graph, std::vector<std::vector<int>> pending) {
+  // A disk cut out of a flattened chart keeps that chart's map when its own stretch is within
+  // the limits: flattening it anew would cost the most of the atlas's time (docs/method.md §7).
+  void makeCharts(const FaceGraph& graph, std::vector<std::vector<int>> components) {
     std::vector<int> scratch(graph.faceCount(), kOutside);
     AtlasReport& r = result_.report;
     int charted_faces = 0;
+    std::vector<Piece> pending;
+    for (std::vector<int>& faces : components) pending.push_back({std::move(faces), {}});
+    // The pieces of a flattened chart, each with its part of the chart's map.
+    auto cutOut = [&](const Chart& chart, std::vector<std::vector<int>> parts) {
+      for (std::vector<int>& part : parts) {
+        Chart map = restrictedChart(V_, F_, chart, part, scratch);
+        pending.push_back({std::move(part), std::move(map)});
+      }
+    };
     while (!pending.empty()) {
-      std::vector<std::vector<int>> disks;
-      for (std::vector<int>& faces : pending) {
+      std::vector<Piece> disks;
+      for (Piece& piece : pending) {
+        std::vector<int>& faces = piece.faces;
         if (faces.size() == 1) {
           charts_.push_back(singleFaceChart(V_, F_, faces[0], false, 0));
           ++charted_faces;
         } else if (regionIsDisk(graph, faces)) {
-          disks.push_back(std::move(faces));
+          if (piece.map &&
+              !(stretchAccepted(*piece.map) && piece.map->report.linf_stretch <= kMostKeptLinf))
+            piece.map.reset();
+          disks.push_back(std::move(piece));
         } else {
           // A piece that is not a disk must be cut anyway; a large one is cut into parts of
           // about kFacesPerFirstPart faces at once, not halved level by level, so that its
           // largest pieces are not flattened only to be split again.
           const int parts = std::max<int>(2, static_cast<int>(faces.size() / kFacesPerFirstPart));
           for (std::vector<int>& part : splitFaces(graph, faces, parts, scratch))
-            disks.push_back(std::move(part));
+            disks.push_back({std::move(part), {}});
         }
       }
       pending.clear();
       // Largest first, so the long ones start early.
-      std::stable_sort(disks.begin(), disks.end(),
-                       [](const auto& a, const auto& b) { return a.size() > b.size(); });
+      std::stable_sort(disks.begin(), disks.end(), [](const Piece& a, const Piece& b) {
+        return a.faces.size() > b.faces.size();
+      });
       std::vector<Chart> flat(disks.size());
       std::vector<char> ok(disks.size(), 0);
       std::atomic<int> done_faces{charted_faces};
@@ -271,41 +365,49 @@ class AtlasBuilder {
           [&](int begin, int end, int worker) {
             for (int i = begin; i < end; ++i) {
               if (cancelled_) return;
-              std::string why;
-              ok[i] = flattenChart(V_, F_, disks[i], chartOptions(disks[i].size()), flat[i], why);
-              done_faces += static_cast<int>(disks[i].size());
+              const std::vector<int>& faces = disks[i].faces;
+              if (disks[i].map) {
+                flat[i] = std::move(*disks[i].map);
+                ok[i] = 1;
+              } else {
+                std::string why;
+                ok[i] = flattenChart(V_, F_, faces, chartOptions(faces.size()), flat[i], why);
+              }
+              done_faces += static_cast<int>(faces.size());
               if (worker == 0) report(5 + 80 * done_faces / std::max(result_.report.faces, 1));
             }
           });
       if (cancelled_) throw ParameterizationError("cancelled by the user");
       for (size_t i = 0; i < disks.size(); ++i) {
-        const bool good = ok[i] && flat[i].report.l2_stretch <= options_.max_chart_stretch &&
-                          !(flat[i].report.linf_stretch > kMostChartLinf &&
-                            disks[i].size() > kFewestFacesToSplitForLinf);
-        if (good) {
+        const std::vector<int>& faces = disks[i].faces;
+        if (ok[i] && stretchAccepted(flat[i])) {
           std::vector<std::vector<int>> parts = straightCutPieces(graph, flat[i], scratch);
           if (parts.size() >= 2) {
             ++r.charts_split;
-            for (std::vector<int>& part : parts) pending.push_back(std::move(part));
+            cutOut(flat[i], std::move(parts));
             continue;
           }
-          charted_faces += static_cast<int>(disks[i].size());
+          charted_faces += static_cast<int>(faces.size());
           charts_.push_back(std::move(flat[i]));
           continue;
         }
-        std::vector<std::vector<int>> parts = splitFaces(graph, disks[i], 2, scratch);
+        std::vector<std::vector<int>> parts = splitFaces(graph, faces, 2, scratch);
         if (parts.size() < 2) {
           // Cannot be split further: keep the flattened chart, or its faces one by one.
           if (ok[i]) {
-            charted_faces += static_cast<int>(disks[i].size());
+            charted_faces += static_cast<int>(faces.size());
             charts_.push_back(std::move(flat[i]));
           } else {
-            for (int f : disks[i]) pending.push_back({f});
+            for (int f : faces) pending.push_back({{f}, {}});
           }
           continue;
         }
         ++r.charts_split;
-        for (std::vector<int>& part : parts) pending.push_back(std::move(part));
+        if (ok[i]) {
+          cutOut(flat[i], std::move(parts));
+        } else {
+          for (std::vector<int>& part : parts) pending.push_back({std::move(part), {}});
+        }
       }
     }
   }
