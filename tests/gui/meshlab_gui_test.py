@@ -352,8 +352,8 @@ def render_stats(path, box):
 
 def shows_checkerboard(s):
     # Red: the grid lines are one texel wide, thinner than a screen pixel at this zoom, so the
-    # share that stays red follows the texel density (the torus's 15-chart atlas: 0.19 %); the
-    # view shows none before Apply.
+    # share that stays red follows the texel density (the torus's 6-chart atlas: 0.16 %); before
+    # Apply only the trackball's red axis shows (2025.07: 0.04 %).
     return (s["dark"] >= 0.03 and s["light"] >= 0.03 and s["red"] >= 0.001
             and s["alternations"] >= 800)
 
@@ -614,7 +614,9 @@ def run_test(args, gui):
     except CheckFailed:
         raise CheckFailed("no checkerboard in the 3D view after Apply: %s (before: %s)"
                           % (fmt(render_stats(textured_path, render_box)), fmt(before)))
-    if not (after["dark"] >= 4 * before["dark"] and after["red"] >= 4 * before["red"]
+    # Red by its rise, not a ratio: the trackball's axis is red before Apply, and the grid
+    # lines' share follows the packing's texel density.
+    if not (after["dark"] >= 4 * before["dark"] and after["red"] >= before["red"] + 0.001
             and after["alternations"] >= 4 * before["alternations"]):
         raise CheckFailed("the 3D view changed too little: after %s, before %s"
                           % (fmt(after), fmt(before)))
