@@ -30,4 +30,6 @@ else
   .venv/bin/python bench/readers.py --build "$build_dir" --readme README.md
   # Atlases of whole models against xatlas, Blender and MeshLab's own (README *Atlas*).
   .venv/bin/python bench/atlas.py --build "$build_dir" --big --readme README.md
+  # MeshLab's own texture baking on the atlas (README *Atlas*).
+  .venv/bin/python bench/baking.py --build "$build_dir" --readme README.md
 fi
