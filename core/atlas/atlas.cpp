@@ -119,26 +119,27 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
 // The part of a flattened chart on the faces of `faces` (a subset of its own), keeping its
 // texture coordinates: a restriction of a one-to-one map is one-to-one. Stretch is measured
 // anew with the part's own normalization, both frames centred and scaled to unit size as in
-// layoutStretch (metrics.h).
+// layoutStretch (metrics.h). `index_in_parent` holds, per input face of the parent, its index in
+// parent.faces; `row_of` is -1 per parent row on entry and on return.
 Chart restrictedChart(const Positions& V, const Triangles& F, const Chart& parent,
-                      const std::vector<int>& faces, std::vector<int>& scratch) {
-  // scratch: per input face its index in parent.faces (filled here, reset on return).
-  for (size_t i = 0; i < parent.faces.size(); ++i) scratch[parent.faces[i]] = static_cast<int>(i);
+                      const std::vector<int>& faces, const std::vector<int>& index_in_parent,
+                      std::vector<int>& row_of) {
   Chart chart;
   chart.faces = faces;
   chart.corner_row.resize(faces.size());
-  std::vector<int> row_of(parent.uv.size(), -1);
+  std::vector<int> parent_row;  // per row of the part, its parent's row
   Eigen::Vector3d low3 = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
   Eigen::Vector3d high3 = -low3;
   Eigen::Vector2d low2 = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
   Eigen::Vector2d high2 = -low2;
   for (size_t i = 0; i < faces.size(); ++i) {
-    const auto& rows = parent.corner_row[scratch[faces[i]]];
+    const auto& rows = parent.corner_row[index_in_parent[faces[i]]];
     for (int k = 0; k < 3; ++k) {
       int& row = row_of[rows[k]];
       if (row < 0) {
         row = static_cast<int>(chart.uv.size());
         chart.uv.push_back(parent.uv[rows[k]]);
+        parent_row.push_back(rows[k]);
       }
       chart.corner_row[i][k] = row;
       const Eigen::Vector3d q = V.row(F(faces[i], k)).transpose();
@@ -146,7 +147,7 @@ Chart restrictedChart(const Positions& V, const Triangles& F, const Chart& paren
       low2 = low2.cwiseMin(chart.uv[row]), high2 = high2.cwiseMax(chart.uv[row]);
     }
   }
-  for (int f : parent.faces) scratch[f] = kOutside;
+  for (int row : parent_row) row_of[row] = -1;
   const double size3 = std::max((high3 - low3).maxCoeff(), std::numeric_limits<double>::min());
   const double size2 = std::max((high2 - low2).maxCoeff(), std::numeric_limits<double>::min());
   double area2d = 0, area3d = 0, weighted = 0, worst = 0;
@@ -165,11 +166,20 @@ Chart restrictedChart(const Positions& V, const Triangles& F, const Chart& paren
                           c = V.row(F(faces[i], 2));
     chart.report.area += 0.5 * (b - a).cross(c - a).norm();  // as flattenChart measures it
   }
-  const double normalize = std::sqrt(std::abs(area2d) / area3d);
   chart.report.faces = static_cast<int>(faces.size());
-  chart.report.l2_stretch = std::sqrt(weighted / area3d) * normalize;
-  chart.report.linf_stretch = worst * normalize;
-  chart.report.boundary_used = parent.report.boundary_used;
+  if (area3d > 0 && area2d != 0) {
+    const double normalize = std::sqrt(std::abs(area2d) / area3d);
+    chart.report.l2_stretch = std::sqrt(weighted / area3d) * normalize;
+    chart.report.linf_stretch = worst * normalize;
+  } else {  // nothing to measure: never kept
+    chart.report.l2_stretch = chart.report.linf_stretch = std::numeric_limits<double>::infinity();
+  }
+  // The map is the parent's (whose fallbacks the report counted once); its border is partly a
+  // cut through it.
+  const std::string kPartOf = "part of ";
+  chart.report.boundary_used = parent.report.boundary_used.rfind(kPartOf, 0) == 0
+                                   ? parent.report.boundary_used
+                                   : kPartOf + parent.report.boundary_used;
   return chart;
 }
 
@@ -318,18 +328,24 @@ class AtlasBuilder {
   // its stretch is above the limit or the patch pipeline refused it; one face is a chart alone.
   // A disk cut out of a flattened chart keeps that chart's map when its own stretch is within
   // the limits: flattening it anew would cost the most of the atlas's time (docs/method.md §7).
-  void makeCharts(const FaceGraph& graph, std::vector<std::vector<int>> components) {
+  void makeCharts(const FaceGraph& graph, std::vector<std::vector<int>> pieces) {
     std::vector<int> scratch(graph.faceCount(), kOutside);
     AtlasReport& r = result_.report;
     int charted_faces = 0;
     std::vector<Piece> pending;
-    for (std::vector<int>& faces : components) pending.push_back({std::move(faces), {}});
-    // The pieces of a flattened chart, each with its part of the chart's map.
+    for (std::vector<int>& faces : pieces) pending.push_back({std::move(faces), {}});
+    // The pieces of a flattened chart, each with its part of the chart's map (one face alone
+    // becomes a chart of its own anyway).
+    std::vector<int> row_of;
     auto cutOut = [&](const Chart& chart, std::vector<std::vector<int>> parts) {
+      for (size_t i = 0; i < chart.faces.size(); ++i) scratch[chart.faces[i]] = static_cast<int>(i);
+      row_of.assign(chart.uv.size(), -1);
       for (std::vector<int>& part : parts) {
-        Chart map = restrictedChart(V_, F_, chart, part, scratch);
+        std::optional<Chart> map;
+        if (part.size() > 1) map = restrictedChart(V_, F_, chart, part, scratch, row_of);
         pending.push_back({std::move(part), std::move(map)});
       }
+      for (int f : chart.faces) scratch[f] = kOutside;
     };
     while (!pending.empty()) {
       std::vector<Piece> disks;
@@ -367,7 +383,7 @@ class AtlasBuilder {
               if (cancelled_) return;
               const std::vector<int>& faces = disks[i].faces;
               if (disks[i].map) {
-                flat[i] = std::move(*disks[i].map);
+                flat[i] = std::move(*disks[i].map);  // no work: linear_work stays 0
                 ok[i] = 1;
               } else {
                 std::string why;
@@ -378,6 +394,12 @@ class AtlasBuilder {
             }
           });
       if (cancelled_) throw ParameterizationError("cancelled by the user");
+      // Every flattening counts, also of charts split afterwards.
+      for (const Chart& chart : flat) {
+        linear_work_ += chart.linear_work;
+        refine_work_ += chart.refine_work;
+        r.chart_fallbacks += chart.report.fallbacks;  // 0 for a kept map
+      }
       for (size_t i = 0; i < disks.size(); ++i) {
         const std::vector<int>& faces = disks[i].faces;
         if (ok[i] && stretchAccepted(flat[i])) {
@@ -547,14 +569,8 @@ class AtlasBuilder {
     r.overlapping_charts = 0;  // store() certified that no two charts' borders cross
     r.texture_size = options_.texture_size;
     r.gutter = options_.gutter;
-    double linear = 0, refine = 0;
-    for (const Chart& chart : charts_) {
-      r.chart_table.push_back(chart.report);
-      r.chart_fallbacks += chart.report.fallbacks;
-      linear += chart.linear_work;
-      refine += chart.refine_work;
-    }
-    r.refinement_work = linear > 0 ? refine / linear : 0;
+    for (const Chart& chart : charts_) r.chart_table.push_back(chart.report);
+    r.refinement_work = linear_work_ > 0 ? refine_work_ / linear_work_ : 0;
     if (measures.charts != r.charts)
       r.notes.push_back(std::to_string(r.charts) + " charts are " +
                         std::to_string(measures.charts) +
@@ -570,6 +586,7 @@ class AtlasBuilder {
   AtlasResult result_;
   std::vector<Chart> charts_;
   double total_area_ = 0;
+  double linear_work_ = 0, refine_work_ = 0;  // of every flattening, work.h
   std::atomic<bool> cancelled_{false};
 };
 
@@ -633,14 +650,16 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
        "faces of zero area or a repeated vertex: a chart each, a positive-area UV triangle, left "
        "out of the stretch",
        [](R r) { return jsonInt(r.zero_area_faces); }},
-      {"chart_fallbacks", "the patch pipeline's fallbacks, summed over the charts",
+      {"chart_fallbacks", "the patch pipeline's fallbacks, summed over every chart flattening",
        [](R r) { return jsonInt(r.chart_fallbacks); }},
       {"charts_split",
        "charts split again: L2 stretch above `chartstretch` (or a worst face stretched over 4x), "
        "refused by the patch pipeline, or cut along a straight line for packing (long, or with "
        "arms and bays)",
        [](R r) { return jsonInt(r.charts_split); }},
-      {"refinement_work", "the charts' refinement work over their linear maps' work",
+      {"refinement_work",
+       "the refinement work of every chart flattening (split charts too) over their linear maps' "
+       "work",
        [](R r) { return jsonNumber(r.refinement_work); }},
       {"storage", "precision the UVs are stored and certified in",
        [](R r) { return jsonString(r.storage); }},
@@ -660,7 +679,8 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
       {"notes", "what was done that needs no action",
        [](R r) { return jsonList(r.notes, jsonString); }},
       {"chart_table",
-       "per chart: `faces`, 3D `area`, `l2_stretch`, `linf_stretch`, `boundary_used`, `fallbacks`",
+       "per chart: `faces`, 3D `area`, `l2_stretch`, `linf_stretch`, `boundary_used` (`part of "
+       "...` when the chart kept its part of a larger chart's map), `fallbacks`",
        [](R r) {
          std::string table = "[";
          for (size_t c = 0; c < r.chart_table.size(); ++c) {

@@ -48,7 +48,9 @@ struct ChartReport {
   int faces = 0;
   double area = 0;  // 3D
   double l2_stretch = 0, linf_stretch = 0;
-  std::string boundary_used;  // the patch pipeline's boundary ("measured", "circle", ...)
+  // The patch pipeline's boundary ("measured", "circle", ...), "part of measured" etc. when the
+  // chart kept its part of a larger chart's map.
+  std::string boundary_used;
   int fallbacks = 0;
 };
 
@@ -66,7 +68,7 @@ struct AtlasReport {
   int non_manifold_edges = 0, non_manifold_vertices = 0;  // split inside the core
   int inconsistent_edges = 0;                             // edges where orientation flips: cut
   int zero_area_faces = 0;                                // charted alone, left out of the stretch
-  int chart_fallbacks = 0;  // the patch pipeline's fallbacks, over all charts
+  int chart_fallbacks = 0;  // the patch pipeline's fallbacks, over every chart flattening
   int charts_split = 0;     // charts refined into smaller ones for stretch, disk shape or packing
   std::string storage = "double";
   int storage_degenerate_faces = 0, storage_moved_vertices = 0;

@@ -256,12 +256,14 @@ class Occupancy {
   int top_ = 0;
 };
 
-// Charts with at least this many points have their four quarter turns searched on two cores.
+// Charts with at least this many texture coordinates have their four quarter turns searched
+// by parallel workers.
 constexpr size_t kFewestPointsForParallelTurns = 300;
 
-// Packs every chart at `scale` into a strip as wide as the texture, each at its lowest free
-// spot (lowest top, then lowest, then leftmost, over four quarter turns); returns the strip's
-// used height, or INT_MAX when a chart is wider than the texture.
+// Packs every chart at `scale` into a strip as wide as the texture, each at a low free spot
+// (lowest top, then lowest, then leftmost, of those searched over four quarter turns: every
+// stride-th column, then a halving search around the best); returns the strip's used height,
+// or INT_MAX when a chart is wider than the texture.
 int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
            const std::vector<std::vector<int>>& loops, const std::vector<int>& order, double scale,
            const PackOptions& options, std::vector<Placement>& placements) {
@@ -308,7 +310,7 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
         if (around + step <= last) tryAt(around + step);
       }
     };
-    // Threads only pay for themselves on charts with long borders.
+    // Threads only pay for themselves on larger charts.
     if (p.size() >= kFewestPointsForParallelTurns)
       parallelFor(4, 1, [&](int begin, int end, int) {
         for (int turn = begin; turn < end; ++turn) searchTurn(turn);
