@@ -357,6 +357,37 @@ TEST(Atlas, CancelStopsTheRun) {
   EXPECT_THROW(makeAtlas(mesh.V, mesh.F, o), ParameterizationError);
 }
 
+// A flat strip much longer than the square root of its area is halved across its length, and
+// each half keeps its part of the strip's map (no second flattening): the halves are labelled
+// "part of ..." and are within the kept-map limits.
+TEST(Atlas, PiecesCutOutOfAChartKeepItsMap) {
+  const int length = 48, width = 4;
+  Mesh mesh;
+  mesh.V.resize((length + 1) * (width + 1), 3);
+  for (int i = 0; i <= length; ++i)
+    for (int j = 0; j <= width; ++j) mesh.V.row(i * (width + 1) + j) << i, j, 0;
+  mesh.F.resize(2 * length * width, 3);
+  int f = 0;
+  for (int i = 0; i < length; ++i)
+    for (int j = 0; j < width; ++j) {
+      const int a = i * (width + 1) + j, b = a + width + 1;
+      mesh.F.row(f++) << a, b, b + 1;
+      mesh.F.row(f++) << a, b + 1, a + 1;
+    }
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o, 1.0 + 1e-9);
+  EXPECT_GE(r.report.charts, 2);
+  int kept = 0;
+  for (const ChartReport& chart : r.report.chart_table) {
+    if (chart.boundary_used.rfind("part of ", 0) != 0) continue;
+    ++kept;
+    EXPECT_LE(chart.l2_stretch, o.max_chart_stretch);
+    EXPECT_LE(chart.linf_stretch, 2.0);
+  }
+  EXPECT_EQ(kept, r.report.charts);  // every piece came from the one flattened strip
+}
+
 // The shared closed models, when they are beside the clone.
 class ClosedMesh : public ::testing::TestWithParam<const char*> {};
 
