@@ -70,6 +70,16 @@ Chart singleFaceChart(const Positions& V, const Triangles& F, int f, bool zero_a
   return chart;
 }
 
+// The 3D area of the faces of the list.
+double facesArea(const Positions& V, const Triangles& F, const std::vector<int>& faces) {
+  double area = 0;
+  for (int f : faces) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return area;
+}
+
 // Flattens a disk-shaped face set by the patch pipeline; false when it refused.
 bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>& faces,
                   const Options& options, Chart& chart, std::string& why) {
@@ -105,10 +115,7 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
     chart.report.fallbacks = r.report.fallbacks.total();
     for (const auto& [key, work] : r.report.stage_work)
       (isRefineStage(key) ? chart.refine_work : chart.linear_work) += work;
-    for (int f : faces) {
-      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-      chart.report.area += 0.5 * (b - a).cross(c - a).norm();
-    }
+    chart.report.area = facesArea(V, F, faces);
     return true;
   } catch (const ParameterizationError& e) {
     why = e.what();
@@ -117,10 +124,10 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
 }
 
 // The part of a flattened chart on the faces of `faces` (a subset of its own), keeping its
-// texture coordinates: a restriction of a one-to-one map is one-to-one. Stretch is measured
-// anew with the part's own normalization, both frames centred and scaled to unit size as in
-// layoutStretch (metrics.h). `index_in_parent` holds, per input face of the parent, its index in
-// parent.faces; `row_of` is -1 per parent row on entry and on return.
+// texture coordinates: a restriction of a one-to-one map is one-to-one. Its stretch is measured
+// anew by layoutStretch, with the part's own normalization. `index_in_parent` holds, per input
+// face of the parent, its index in parent.faces; `row_of` is -1 per parent row on entry and on
+// return.
 Chart restrictedChart(const Positions& V, const Triangles& F, const Chart& parent,
                       const std::vector<int>& faces, const std::vector<int>& index_in_parent,
                       std::vector<int>& row_of) {
@@ -128,10 +135,9 @@ Chart restrictedChart(const Positions& V, const Triangles& F, const Chart& paren
   chart.faces = faces;
   chart.corner_row.resize(faces.size());
   std::vector<int> parent_row;  // per row of the part, its parent's row
-  Eigen::Vector3d low3 = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
-  Eigen::Vector3d high3 = -low3;
-  Eigen::Vector2d low2 = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
-  Eigen::Vector2d high2 = -low2;
+  Triangles part_faces(faces.size(), 3);
+  Layout layout;
+  layout.face_uv.resize(faces.size(), 3);
   for (size_t i = 0; i < faces.size(); ++i) {
     const auto& rows = parent.corner_row[index_in_parent[faces[i]]];
     for (int k = 0; k < 3; ++k) {
@@ -142,38 +148,20 @@ Chart restrictedChart(const Positions& V, const Triangles& F, const Chart& paren
         parent_row.push_back(rows[k]);
       }
       chart.corner_row[i][k] = row;
-      const Eigen::Vector3d q = V.row(F(faces[i], k)).transpose();
-      low3 = low3.cwiseMin(q), high3 = high3.cwiseMax(q);
-      low2 = low2.cwiseMin(chart.uv[row]), high2 = high2.cwiseMax(chart.uv[row]);
+      layout.face_uv(i, k) = row;
     }
+    part_faces.row(i) = F.row(faces[i]);
   }
   for (int row : parent_row) row_of[row] = -1;
-  const double size3 = std::max((high3 - low3).maxCoeff(), std::numeric_limits<double>::min());
-  const double size2 = std::max((high2 - low2).maxCoeff(), std::numeric_limits<double>::min());
-  double area2d = 0, area3d = 0, weighted = 0, worst = 0;
-  for (size_t i = 0; i < faces.size(); ++i) {
-    Eigen::Vector3d q[3];
-    Eigen::Vector2d p[3];
-    for (int k = 0; k < 3; ++k) {
-      q[k] = (V.row(F(faces[i], k)).transpose() - 0.5 * (low3 + high3)) / size3;
-      p[k] = (chart.uv[chart.corner_row[i][k]] - 0.5 * (low2 + high2)) / size2;
-    }
-    const FaceStretch s = faceStretch(q, p);
-    area2d += s.area2d, area3d += s.area3d;
-    weighted += s.l2 * s.l2 * s.area3d;
-    worst = std::max(worst, s.linf);
-    const Eigen::Vector3d a = V.row(F(faces[i], 0)), b = V.row(F(faces[i], 1)),
-                          c = V.row(F(faces[i], 2));
-    chart.report.area += 0.5 * (b - a).cross(c - a).norm();  // as flattenChart measures it
-  }
+  layout.uv.resize(chart.uv.size(), 2);
+  for (size_t v = 0; v < chart.uv.size(); ++v) layout.uv.row(v) = chart.uv[v].transpose();
+  const StretchMetrics stretch = layoutStretch(V, part_faces, layout);
+  const bool measured = std::isfinite(stretch.l2) && std::isfinite(stretch.linf);
   chart.report.faces = static_cast<int>(faces.size());
-  if (area3d > 0 && area2d != 0) {
-    const double normalize = std::sqrt(std::abs(area2d) / area3d);
-    chart.report.l2_stretch = std::sqrt(weighted / area3d) * normalize;
-    chart.report.linf_stretch = worst * normalize;
-  } else {  // nothing to measure: never kept
-    chart.report.l2_stretch = chart.report.linf_stretch = std::numeric_limits<double>::infinity();
-  }
+  chart.report.area = facesArea(V, F, faces);
+  // Nothing to measure (no area): never kept.
+  chart.report.l2_stretch = measured ? stretch.l2 : std::numeric_limits<double>::infinity();
+  chart.report.linf_stretch = measured ? stretch.linf : std::numeric_limits<double>::infinity();
   // The map is the parent's (whose fallbacks the report counted once); its border is partly a
   // cut through it.
   const std::string kPartOf = "part of ";
