@@ -465,10 +465,24 @@ def run_test(args, gui):
         time.sleep(1)  # let the box paint its text
         gui.screenshot("01_plugin_error.png")
         raise CheckFailed("MeshLab opened 'Error while loading plugins' (see 01_plugin_error.png)")
-    gui.run("xdotool", "windowmove", str(gui.main), "0", "0")
-    gui.run("xdotool", "windowsize", str(gui.main), str(SCREEN[0]), str(SCREEN[1]))
-    gui.wait_for("the main window to fill the screen",
-                 lambda: gui.geometry(gui.main)[2:] == SCREEN)
+    # MeshLab may still restore its saved geometry or lay itself out after it shows (a CI run of
+    # 2025.07 kept a smaller window for 60 s after one resize): ask again every 2 s, and take the
+    # main window anew each time in case the first one found was replaced.
+    def fill_screen():
+        found = gui.windows(MAIN_TITLE)
+        if found:
+            gui.main = found[0]
+        if gui.geometry(gui.main)[2:] == SCREEN:
+            return True
+        now = time.monotonic()
+        if now - fill_screen.asked >= 2.0:
+            fill_screen.asked = now
+            gui.run("xdotool", "windowmove", str(gui.main), "0", "0", check=False)
+            gui.run("xdotool", "windowsize", str(gui.main), str(SCREEN[0]), str(SCREEN[1]),
+                    check=False)
+        return False
+    fill_screen.asked = -1e9
+    gui.wait_for("the main window to fill the screen", fill_screen)
     log_line("MeshLab window %d after %.1f s" % (gui.main, time.monotonic() - gui.started))
 
     # The 3D view: the largest child of the main window (the MDI area with the GL widget); its
