@@ -25,10 +25,16 @@ namespace sdp::atlas {
 // at 2, 264 charts in 69 s at 6; docs/measurements.md).
 constexpr double kDefaultAtlasRefineWorkFactor = 6.0;
 
+// The refinement floor shared by all charts of an atlas (in proportion to their faces), kept at
+// the value the atlas's charts were measured with when the patch filter's went down to
+// kMinRefineWork (docs/measurements.md).
+constexpr double kAtlasMinRefineWork = 2e9;
+
 // The patch pipeline's defaults for the atlas's charts.
 inline Options atlasChartDefaults() {
   Options o = productDefaults();
   o.refine_work_factor = kDefaultAtlasRefineWorkFactor;
+  o.refine_min_work = kAtlasMinRefineWork;
   return o;
 }
 
