@@ -64,7 +64,7 @@ Chart singleFaceChart(const Positions& V, const Triangles& F, int f, bool zero_a
     chart.uv = {{0, 0}, {ab, 0}, {x, y}};
   }
   chart.report.faces = 1;
-  chart.report.area = 0.5 * (b - a).cross(c - a).norm();
+  chart.report.area = faceArea3d(V, F, f);
   chart.report.l2_stretch = chart.report.linf_stretch = 1;
   chart.report.boundary_used = zero_area ? "zero area" : "one face";
   return chart;
@@ -73,10 +73,7 @@ Chart singleFaceChart(const Positions& V, const Triangles& F, int f, bool zero_a
 // The 3D area of the faces of the list.
 double facesArea(const Positions& V, const Triangles& F, const std::vector<int>& faces) {
   double area = 0;
-  for (int f : faces) {
-    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
+  for (int f : faces) area += faceArea3d(V, F, f);
   return area;
 }
 

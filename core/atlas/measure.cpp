@@ -164,6 +164,11 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   return m;
 }
 
+double faceArea3d(const Positions& V, const Triangles& F, int f) {
+  const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
 AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout& layout,
                            int texture_size, int gutter) {
   AtlasMeasures m;
@@ -172,10 +177,7 @@ AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout&
 
   // Seam and 3D area.
   double area3d = 0;
-  for (int f = 0; f < faces; ++f) {
-    const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    area3d += 0.5 * (b - a).cross(c - a).norm();
-  }
+  for (int f = 0; f < faces; ++f) area3d += faceArea3d(V, F, f);
   const EdgeGroups groups = edgeGroups(F);
   double seam = 0;
   for (size_t g = 0; g + 1 < groups.begin.size(); ++g) {
