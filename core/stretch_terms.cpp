@@ -10,7 +10,7 @@
 
 namespace sdp {
 
-Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J) {
+Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   const double det = J[0] * J[3] - J[1] * J[2], fro = J.squaredNorm();
   // Singular values: (s1 + s2)^2 = |J|^2 + 2 det and (s1 - s2)^2 = |J|^2 - 2 det.
   const double sum = std::sqrt(std::max(fro + 2 * det, 0.0));
@@ -34,15 +34,27 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J) {
   const Eigen::Vector4d flip = std::sqrt(0.5) * (outer(u2, v1) + outer(u1, v2));
   const double floor = 1e-8 / (det * det);
   const double s1_3 = s1 * s1 * s1, s2_3 = s2 * s2 * s2;
-  const std::array<std::pair<double, Eigen::Vector4d>, 4> modes = {{
-      {6 / (s1_3 * s1), outer(u1, v1)},
-      {6 / (s2_3 * s2), outer(u2, v2)},
-      {-2 * (1 / s1_3 + 1 / s2_3) / (s1 + s2), twist},
-      {2 * (s1 * s1 + s1 * s2 + s2 * s2) / (s1_3 * s2_3), flip},
+  const double lam = area_weight;  // det's Hessian turns the twist by +lam, the flip by -lam
+  const std::array<std::pair<double, Eigen::Vector4d>, 2> modes = {{
+      {-2 * (1 / s1_3 + 1 / s2_3) / (s1 + s2) + lam, twist},
+      {2 * (s1 * s1 + s1 * s2 + s2 * s2) / (s1_3 * s2_3) - lam, flip},
   }};
   Eigen::Matrix4d h = Eigen::Matrix4d::Zero();
   for (const auto& [value, vector] : modes)
     h.noalias() += std::max(value, floor) * vector * vector.transpose();
+  // The scalings: [[6/s1^4, lam], [lam, 6/s2^4]] over (u1 v1^T, u2 v2^T), its eigenvalues
+  // raised to the floor.
+  const double a = 6 / (s1_3 * s1), b = 6 / (s2_3 * s2);
+  const double mid = 0.5 * (a + b), rad = std::hypot(0.5 * (a - b), lam);
+  const double e1 = std::max(mid + rad, floor), e2 = std::max(mid - rad, floor);
+  // Eigenvector of the larger eigenvalue: (lam, mid + rad - a), or (1, 0) when lam = 0.
+  Eigen::Vector2d w(lam, mid + rad - a);
+  if (!(w.norm() > 1e-300)) w = a >= b ? Eigen::Vector2d(1, 0) : Eigen::Vector2d(0, 1);
+  w.normalize();
+  const Eigen::Vector4d x1 = outer(u1, v1), x2 = outer(u2, v2);
+  const Eigen::Vector4d p1 = w.x() * x1 + w.y() * x2, p2 = -w.y() * x1 + w.x() * x2;
+  h.noalias() += e1 * p1 * p1.transpose();
+  h.noalias() += e2 * p2 * p2.transpose();
   return h;
 }
 
@@ -104,17 +116,16 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
 }
 
 // One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
-// dJ of Q * S and the Hessian h of S * Q (the term that bends; S's own curvature and the cross
-// terms dQ dS^T are left out, as the energy is scale-invariant and each step is rescaled: a
-// positive definite approximation, so the step still descends), made positive semi-definite
-// (stretchHessian).
+// dJ of Q * S and, made positive semi-definite (stretchHessian), the Hessian of the face's
+// S * A |J|^2 / det^2 + Q * A det: summed over the faces, S Hess(Q) + Q Hess(S). Only the cross
+// terms dQ dS^T are left out (the energy is scale-invariant and each step is rescaled).
 void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
                      Eigen::Vector4d& dJ, Eigen::Matrix4d& h) {
   const double det = determinant(J), fro = J.squaredNorm();
   const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
   const double q2 = det * det, q3 = q2 * det;
   dJ = frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
-  h = stretchHessian(J) * (energy.S * frame.area);
+  h = stretchHessian(J, energy.Q / energy.S) * (energy.S * frame.area);
 }
 
 }  // namespace sdp

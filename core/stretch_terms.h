@@ -50,21 +50,23 @@ Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const 
 // The largest t for which no face's signed UV area reaches zero along uv + t d.
 double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d);
 
-// The Hessian of |J|^2 / det(J)^2 = 1/s1^2 + 1/s2^2 (s1, s2 J's singular values; det > 0) over
-// J = (a, b, c, d) row by row, made positive semi-definite. The energy is isotropic, so its
-// Hessian's eigenvectors are known in J = U diag(s1, s2) V^T (Smith, de Goes and Kim,
-// "Analytic eigensystems for isotropic distortion energies", 2019): the scalings U e_i e_i^T V^T
-// with eigenvalues 6 / s_i^4, the twist U [0 -1; 1 0] V^T / sqrt 2 with
-// -2 (1/s1^3 + 1/s2^3) / (s1 + s2), always negative, and the flip U [0 1; 1 0] V^T / sqrt 2 with
-// 2 (s1^2 + s1 s2 + s2^2) / (s1 s2)^3. Eigenvalues below 1e-8 / det^2 are raised to it: the same
-// projection as a 4x4 eigensolver's, which took half of a matrix-free Newton step's time.
-Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J);
+// The Hessian of |J|^2 / det(J)^2 + area_weight * det(J) = 1/s1^2 + 1/s2^2 + w s1 s2 (s1, s2
+// J's singular values; det > 0) over J = (a, b, c, d) row by row, made positive semi-definite.
+// The energy is isotropic, so its Hessian's eigenvectors are known in J = U diag(s1, s2) V^T
+// (Smith, de Goes and Kim, "Analytic eigensystems for isotropic distortion energies", 2019):
+// the twist U [0 -1; 1 0] V^T / sqrt 2 with -2 (1/s1^3 + 1/s2^3) / (s1 + s2) + w, the flip
+// U [0 1; 1 0] V^T / sqrt 2 with 2 (s1^2 + s1 s2 + s2^2) / (s1 s2)^3 - w, and the scalings
+// U e_i e_j^T V^T (i = j) coupled by [[6 / s1^4, w], [w, 6 / s2^4]]. Eigenvalues below
+// 1e-8 / det^2 are raised to it: the same projection as a 4x4 eigensolver's, which took half
+// of a matrix-free Newton step's time.
+Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight = 0);
 
 // One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
-// dJ of Q * S and the Hessian h of S * Q (the term that bends; S's own curvature and the cross
-// terms dQ dS^T are left out, as the energy is scale-invariant and each step is rescaled: a
-// positive definite approximation, so the step still descends), made positive semi-definite
-// (stretchHessian).
+// dJ of Q * S and, made positive semi-definite (stretchHessian), the Hessian of the face's
+// S * A |J|^2 / det^2 + Q * A det. Summed over the faces that is S Hess(Q) + Q Hess(S): the
+// UV area's curvature, which lives on the free boundary, is kept (leaving it out cost the
+// default map 0.8-1.6 % of L2 on the face scans; docs/measurements.md). Only the cross terms
+// dQ dS^T are left out (the energy is scale-invariant and each step is rescaled).
 void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
                      Eigen::Vector4d& dJ, Eigen::Matrix4d& h);
 

@@ -229,11 +229,12 @@ TEST(StretchNewton, GridStepsUnwarpASmoothWarp) {
   expectOneToOneWithItsMetrics(patch, result, metrics);
 }
 
-// The projected Hessian of |J|^2 / det^2 from its known eigensystem equals an eigensolver's
-// projection of the exact Hessian (differentiated twice by hand below), also where the singular
-// values are equal (a rotation times a scale) and far apart.
+// The projected Hessian of |J|^2 / det^2 + w det from its known eigensystem equals an
+// eigensolver's projection of the exact Hessian (differentiated twice by hand below), also where
+// the singular values are equal (a rotation times a scale) and far apart, for area weights w
+// from none to large.
 TEST(StretchNewton, AnalyticHessianMatchesTheEigensolversProjection) {
-  const auto exact = [](const Eigen::Vector4d& J) {
+  const auto exact = [](const Eigen::Vector4d& J, double w) {
     const double det = J[0] * J[3] - J[1] * J[2], fro = J.squaredNorm();
     const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);
     const double q2 = det * det, q3 = q2 * det, q4 = q2 * q2;
@@ -244,6 +245,11 @@ TEST(StretchNewton, AnalyticHessianMatchesTheEigensolversProjection) {
     h(3, 0) -= 2 * fro / q3;
     h(1, 2) += 2 * fro / q3;
     h(2, 1) += 2 * fro / q3;
+    // det = ad - bc
+    h(0, 3) += w;
+    h(3, 0) += w;
+    h(1, 2) -= w;
+    h(2, 1) -= w;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(h);
     const Eigen::Vector4d clamped = eigen.eigenvalues().cwiseMax(1e-8 / q2);
     return Eigen::Matrix4d(eigen.eigenvectors() * clamped.asDiagonal() *
@@ -258,10 +264,11 @@ TEST(StretchNewton, AnalyticHessianMatchesTheEigensolversProjection) {
     if (J[0] * J[3] - J[1] * J[2] < 0) J.head<2>() *= -1;
     cases.push_back(J);
   }
-  for (const Eigen::Vector4d& J : cases) {
-    const Eigen::Matrix4d expected = exact(J), got = stretchHessian(J);
-    EXPECT_LT((got - expected).norm(), 1e-9 * expected.norm()) << J.transpose();
-  }
+  for (const double w : {0.0, 0.5, 3.4, 40.0})
+    for (const Eigen::Vector4d& J : cases) {
+      const Eigen::Matrix4d expected = exact(J, w), got = stretchHessian(J, w);
+      EXPECT_LT((got - expected).norm(), 1e-9 * expected.norm()) << J.transpose() << " w " << w;
+    }
 }
 
 // With holes every loop is checked: no hole may cross another or the outer loop.
