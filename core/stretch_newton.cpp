@@ -379,11 +379,11 @@ class NewtonDirection {
 
 double gridNewtonStepWork(int faces) {
   // The terms and products (kGridFaceWork), an energy for the collapse cap, one trial's
-  // energy, flip check and metrics; and the grid's factor, about 1.2e8 at 64 cells whatever
-  // the patch's size (counted on face s2: 430 units per face in all).
+  // energy, flip check and metrics; and the grid's factor, about 1e7 at 32 cells whatever the
+  // patch's size (1.2e8 at 64; counted on face s2 and face s1).
   return faces * (kGridFaceWork + WorkCosts::kFlipCheckFace * 2 + WorkCosts::kEnergyFace +
                   WorkCosts::kMetricsFace) +
-         1.2e8;
+         1e7;
 }
 
 double firstFineNewtonStepWork(int faces) {
