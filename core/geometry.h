@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "layout.h"
 #include "patch.h"
 
 namespace sdp {
@@ -20,12 +21,19 @@ inline double signedArea(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
   return 0.5 * cross2(b - a, c - a);
 }
 
-// The 3D area of face f.
+// The area of the 3D triangle abc.
+inline double triangleArea3d(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+// The 3D area of face f, of a patch or of indexed triangles.
 inline double faceArea3d(const Patch& patch, int f) {
   const auto& t = patch.face[f];
-  return 0.5 * (patch.position[t[1]] - patch.position[t[0]])
-                   .cross(patch.position[t[2]] - patch.position[t[0]])
-                   .norm();
+  return triangleArea3d(patch.position[t[0]], patch.position[t[1]], patch.position[t[2]]);
+}
+inline double faceArea3d(const Positions& V, const Triangles& F, int f) {
+  return triangleArea3d(V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
 }
 
 // The 3D area of the real faces (the user's, not the virtual hole fills).

@@ -15,7 +15,7 @@ FaceStretch faceStretch(const Eigen::Vector3d q[3], const Eigen::Vector2d p[3]) 
   const double s1 = p[0].x(), t1 = p[0].y(), s2 = p[1].x(), t2 = p[1].y(), s3 = p[2].x(),
                t3 = p[2].y();
   r.area2d = 0.5 * ((s2 - s1) * (t3 - t1) - (s3 - s1) * (t2 - t1));
-  r.area3d = 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).norm();
+  r.area3d = triangleArea3d(q[0], q[1], q[2]);
   // A flipped face still has a well-defined stretch (the signs cancel), which keeps peers'
   // folded maps comparable; only a collapsed face stretches infinitely.
   if (!(r.area2d != 0) || !std::isfinite(r.area2d)) {

@@ -15,6 +15,7 @@
 #include "convex_cut.h"
 #include "core/connectivity.h"
 #include "core/error.h"
+#include "core/geometry.h"
 #include "core/json.h"
 #include "core/metrics.h"
 #include "core/parallel.h"

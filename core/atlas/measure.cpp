@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/disjoint_sets.h"
+#include "core/geometry.h"
 #include "core/metrics.h"
 #include "core/parallel.h"
 #include "raster.h"
@@ -162,11 +163,6 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
     m.gutter_violations += violations[b];
   }
   return m;
-}
-
-double faceArea3d(const Positions& V, const Triangles& F, int f) {
-  const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-  return 0.5 * (b - a).cross(c - a).norm();
 }
 
 AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout& layout,

@@ -32,9 +32,6 @@ struct AtlasMeasures {
   std::vector<int> chart;  // per face, numbered in order of first face
 };
 
-// The 3D area of face f.
-double faceArea3d(const Positions& V, const Triangles& F, int f);
-
 // Charts by UV values (above), numbered by first face.
 std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* count = nullptr);
 
