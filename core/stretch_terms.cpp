@@ -34,25 +34,26 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   const Eigen::Vector4d flip = std::sqrt(0.5) * (outer(u2, v1) + outer(u1, v2));
   const double floor = 1e-8 / (det * det);
   const double s1_3 = s1 * s1 * s1, s2_3 = s2 * s2 * s2;
-  const double lam = area_weight;  // det's Hessian turns the twist by +lam, the flip by -lam
+  // det's Hessian raises the twist by area_weight and lowers the flip by it.
   const std::array<std::pair<double, Eigen::Vector4d>, 2> modes = {{
-      {-2 * (1 / s1_3 + 1 / s2_3) / (s1 + s2) + lam, twist},
-      {2 * (s1 * s1 + s1 * s2 + s2 * s2) / (s1_3 * s2_3) - lam, flip},
+      {-2 * (1 / s1_3 + 1 / s2_3) / (s1 + s2) + area_weight, twist},
+      {2 * (s1 * s1 + s1 * s2 + s2 * s2) / (s1_3 * s2_3) - area_weight, flip},
   }};
   Eigen::Matrix4d h = Eigen::Matrix4d::Zero();
   for (const auto& [value, vector] : modes)
     h.noalias() += std::max(value, floor) * vector * vector.transpose();
-  // The scalings: [[6/s1^4, lam], [lam, 6/s2^4]] over (u1 v1^T, u2 v2^T), its eigenvalues
-  // raised to the floor.
+  // The scalings: [[6/s1^4, area_weight], [area_weight, 6/s2^4]] over (u1 v1^T, u2 v2^T), its
+  // eigenvalues raised to the floor.
   const double a = 6 / (s1_3 * s1), b = 6 / (s2_3 * s2);
-  const double mid = 0.5 * (a + b), rad = std::hypot(0.5 * (a - b), lam);
+  const double mid = 0.5 * (a + b), rad = std::hypot(0.5 * (a - b), area_weight);
   const double e1 = std::max(mid + rad, floor), e2 = std::max(mid - rad, floor);
-  // Eigenvector of the larger eigenvalue: (lam, mid + rad - a), or (1, 0) when lam = 0.
-  Eigen::Vector2d w(lam, mid + rad - a);
-  if (!(w.norm() > 1e-300)) w = a >= b ? Eigen::Vector2d(1, 0) : Eigen::Vector2d(0, 1);
-  w.normalize();
+  // The larger eigenvalue's eigenvector: (area_weight, mid + rad - a), or the axis of the
+  // larger of a and b when area_weight = 0.
+  Eigen::Vector2d top(area_weight, mid + rad - a);
+  if (!(top.norm() > 1e-300)) top = a >= b ? Eigen::Vector2d(1, 0) : Eigen::Vector2d(0, 1);
+  top.normalize();
   const Eigen::Vector4d x1 = outer(u1, v1), x2 = outer(u2, v2);
-  const Eigen::Vector4d p1 = w.x() * x1 + w.y() * x2, p2 = -w.y() * x1 + w.x() * x2;
+  const Eigen::Vector4d p1 = top.x() * x1 + top.y() * x2, p2 = -top.y() * x1 + top.x() * x2;
   h.noalias() += e1 * p1 * p1.transpose();
   h.noalias() += e2 * p2 * p2.transpose();
   return h;
