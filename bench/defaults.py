@@ -101,22 +101,21 @@ PEER_LIMIT = 1500
 
 
 def run_peer(command):
-    """A peer's process; None when it fails, {"stopped_after": s} when it hits PEER_LIMIT."""
+    """A peer's process and the JSON its last line prints; None when it fails,
+    {"stopped_after": s} when it hits PEER_LIMIT."""
     try:
-        return subprocess.run(command, capture_output=True, text=True, timeout=PEER_LIMIT)
+        done = subprocess.run(command, capture_output=True, text=True, timeout=PEER_LIMIT)
     except subprocess.TimeoutExpired:
         return {"stopped_after": PEER_LIMIT}
+    if done.returncode != 0:
+        return None
+    return json.loads(done.stdout.strip().splitlines()[-1])
 
 
 def slim(build, mesh, iterations=20):
     """libigl SLIM from Tutte (bench/slim_peer.py), in its own process."""
-    done = run_peer([sys.executable, pathlib.Path(__file__).resolve().parent / "slim_peer.py",
+    return run_peer([sys.executable, pathlib.Path(__file__).resolve().parent / "slim_peer.py",
                      mesh, str(iterations), build / "bin" / "sdp_score"])
-    if isinstance(done, dict):
-        return done
-    if done.returncode != 0:
-        return None
-    return json.loads(done.stdout.strip().splitlines()[-1])
 
 
 BLENDER_PYTHON = pathlib.Path(__file__).resolve().parent.parent / ".venv-blender" / "bin" / "python"
@@ -127,14 +126,9 @@ def blender(build, mesh, method):
     None when bpy is not installed (bench/run.sh installs it)."""
     if not BLENDER_PYTHON.exists():
         return None
-    done = run_peer([BLENDER_PYTHON, pathlib.Path(__file__).resolve().parent /
-                     "blender_peer.py", mesh, method, build / "bin" / "sdp_score"])
-    if isinstance(done, dict):
-        return done
-    if done.returncode != 0:
-        return None
-    result = json.loads(done.stdout.strip().splitlines()[-1])
-    return None if "error" in result else result
+    result = run_peer([BLENDER_PYTHON, pathlib.Path(__file__).resolve().parent /
+                       "blender_peer.py", mesh, method, build / "bin" / "sdp_score"])
+    return None if result is None or "error" in result else result
 
 
 def peers(build, mesh):
