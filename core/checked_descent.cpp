@@ -62,6 +62,19 @@ CheckedDescent::Outcome CheckedDescent::tryStep(
     // The sweep sorts the border edges, then tests the few whose x ranges overlap.
     addWork(20.0 * border_.size() * WorkCosts::kNonzero);
     if (!edgesAreSimple(border_, candidate_)) continue;
+    if (l2_of_) {
+      outcome.taken = true;
+      outcome.halvings = halvings;
+      current_.swap(candidate_);
+      const double l2 = l2_of_();
+      outcome.gained = budget_.gained(best_l2_, l2);
+      if (l2 < best_l2_) {
+        best_l2_ = l2;
+        best_ = current_;
+        best_moved_ = true;
+      }
+      break;
+    }
     addWork(faces * WorkCosts::kMetricsFace);
     StretchMetrics measured = stretchMetrics(patch_, candidate_);
     if (measured.flipped_faces > 0) continue;  // the same rule; kept as the last word
@@ -76,6 +89,23 @@ CheckedDescent::Outcome CheckedDescent::tryStep(
     break;
   }
   return outcome;
+}
+
+void CheckedDescent::measureL2By(std::function<double()> l2_of, double start_l2) {
+  l2_of_ = std::move(l2_of);
+  best_l2_ = start_l2;
+  start_ = best_;
+}
+
+LocalUVs CheckedDescent::takeBest() {
+  if (!l2_of_ || !best_moved_) return std::move(best_);
+  addWork(patch_.real_face_count * WorkCosts::kMetricsFace);
+  StretchMetrics measured = stretchMetrics(patch_, best_);
+  // The method's measure and the metrics' differ in rounding (and on faces too small for a
+  // frame): the start stays when the metrics do not rank the best map lower.
+  if (measured.flipped_faces > 0 || !(measured.l2 < metrics_.l2)) return std::move(start_);
+  metrics_ = std::move(measured);
+  return std::move(best_);
 }
 
 }  // namespace sdp

@@ -46,10 +46,14 @@ class CheckedDescent {
   Outcome tryStep(const LocalUVs& direction, double length, int max_halvings,
                   const std::function<bool(LocalUVs& candidate, double length)>& admit = {});
 
+  // The method measures each taken step's L2 itself (`l2_of`, called once the checks pass;
+  // `start_l2` the start's by the same measure), and the full metrics are measured once, by
+  // takeBest(), on the best map: each step then skips stretchMetrics' pass over the faces.
+  void measureL2By(std::function<double()> l2_of, double start_l2);
   const LocalUVs& current() const { return current_; }
   LocalUVs& current() { return current_; }  // for a method's own rescaling of the start
   // The map with the lowest L2 seen (its metrics in `metrics`); the start if none was lower.
-  LocalUVs takeBest() { return std::move(best_); }
+  LocalUVs takeBest();
 
  private:
   const Patch& patch_;
@@ -59,6 +63,10 @@ class CheckedDescent {
   Stage stage_;
   std::vector<BorderEdge> border_;  // the same for every check
   LocalUVs current_, candidate_, best_;
+  std::function<double()> l2_of_;  // measureL2By's
+  double best_l2_ = 0;             // by l2_of_
+  bool best_moved_ = false;        // a step beat the start (by l2_of_)
+  LocalUVs start_;                 // kept while l2_of_ decides
   RefineBudget::Clock::time_point step_start_;
   bool stepped_ = false;      // a step has begun
   double step_work_ = 0;      // the current step's work so far

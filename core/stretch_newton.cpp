@@ -378,12 +378,10 @@ class NewtonDirection {
 }  // namespace
 
 double gridNewtonStepWork(int faces) {
-  // The terms and products (kGridFaceWork), an energy for the collapse cap, one trial's
-  // energy, flip check and metrics; and the grid's factor, about 1e7 at 32 cells whatever the
-  // patch's size (1.2e8 at 64; counted on face s2 and face s1).
-  return faces * (kGridFaceWork + WorkCosts::kFlipCheckFace * 2 + WorkCosts::kEnergyFace +
-                  WorkCosts::kMetricsFace) +
-         1e7;
+  // The terms and products (kGridFaceWork), the collapse cap, one trial's energy and flip
+  // check (its L2 comes from the energy); and the grid's factor, about 1e7 at 32 cells whatever
+  // the patch's size (1.2e8 at 64; counted on face s2 and face s1).
+  return faces * (kGridFaceWork + WorkCosts::kFlipCheckFace * 2 + WorkCosts::kEnergyFace) + 1e7;
 }
 
 double firstFineNewtonStepWork(int faces) {
@@ -415,6 +413,12 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     budget.charge(2.0 * faces * WorkCosts::kEnergyFace);  // the frames and the first energy
     if (!rescaleToArea(current, n, total_area, energy)) return uv;
 
+    // L2^2 = Q S / (2 A^2) (stretch_newton.h): a step's L2 from its energy, the metrics once.
+    const auto l2 = [total_area](const Energy& e) {
+      return std::sqrt(e.Q * e.S / (2 * total_area * total_area));
+    };
+    Energy trial;  // a candidate's
+    descent->measureL2By([&] { return l2(trial); }, l2(energy));
     NewtonDirection newton(patch, frames, settings);
     Eigen::VectorXd& direction = newton.direction;
     LocalUVs step(current.size(), Eigen::Vector2d::Zero());
@@ -440,7 +444,6 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
 
         // Capped short of the first collapse, then halved until the energy drops enough; the
         // map is checked at the scale it is returned at.
-        Energy trial;
         const auto sufficientDecrease = [&](LocalUVs& candidate, double length) {
           trial = energyOf(patch, frames, candidate);
           descent->addWork(faces * WorkCosts::kEnergyFace);
