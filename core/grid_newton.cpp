@@ -31,11 +31,9 @@ bool GridNewtonSystem::layOver(const LocalUVs& uv) {
     const int ix = std::clamp(static_cast<int>(p.x()), 0, nx_ - 2);
     const int iy = std::clamp(static_cast<int>(p.y()), 0, ny_ - 2);
     const double s = std::clamp(p.x() - ix, 0.0, 1.0), t = std::clamp(p.y() - iy, 0.0, 1.0);
-    Weights& w = vertex_[v];
     const int base = iy * nx_ + ix;
-    w.node = {base, base + 1, base + nx_, base + nx_ + 1};
-    w.weight = {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t};
-    for (int node : w.node) active_[node] = 0;
+    vertex_[v] = {base, s, t};
+    for (int node : {base, base + 1, base + nx_, base + nx_ + 1}) active_[node] = 0;
   }
   // The nodes some vertex uses, numbered in grid order.
   node_x_.clear();
@@ -46,9 +44,26 @@ bool GridNewtonSystem::layOver(const LocalUVs& uv) {
       node_x_.push_back(k % nx_);
       node_y_.push_back(k / nx_);
     }
-  for (Weights& w : vertex_)
-    for (int& node : w.node) node = active_[node];
   return true;
+}
+
+// A face inside one cell: its gradient dJ and Hessian h in the reduced form of addCellSums(),
+// E^T dJ and E^T h E per pair of coordinates, with E = [A B C] (2 x 3).
+static void addCellTerms(const FaceFrame& frame, const double s[3], const double t[3],
+                         const Eigen::Vector4d& dJ, const Eigen::Matrix4d& h, double* sums) {
+  Eigen::Matrix<double, 2, 3> E = Eigen::Matrix<double, 2, 3>::Zero();
+  for (int c = 0; c < 3; ++c) {
+    E.col(0) += s[c] * frame.g[c];
+    E.col(1) += t[c] * frame.g[c];
+    E.col(2) += s[c] * t[c] * frame.g[c];
+  }
+  Eigen::Map<Eigen::Vector3d>(sums) += E.transpose() * dJ.head<2>();
+  Eigen::Map<Eigen::Vector3d>(sums + 3) += E.transpose() * dJ.tail<2>();
+  // Row-major 3 x 3 blocks: u-u, u-v, v-v.
+  using Block = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
+  Block(sums + 6) += E.transpose() * h.topLeftCorner<2, 2>() * E;
+  Block(sums + 15) += E.transpose() * h.topRightCorner<2, 2>() * E;
+  Block(sums + 24) += E.transpose() * h.bottomRightCorner<2, 2>() * E;
 }
 
 int GridNewtonSystem::bandSlot(int a, int b) const {
@@ -70,6 +85,7 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
     p.gradient.setZero(2 * m);
     p.band.assign(static_cast<size_t>(m) * kBand * 4, 0.0);
     p.far.clear();
+    p.cell.assign(static_cast<size_t>(nx_) * ny_ * kCellSums, 0.0);
   }
   parallelForSlots(faces, slots, [&](int begin, int end, int slot) {
     Partial& out = partial_[slot];
@@ -80,20 +96,27 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
       Eigen::Vector4d dJ;
       Eigen::Matrix4d h;
       faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, h);
+      const Place &w0 = vertex_[t[0]], &w1 = vertex_[t[1]], &w2 = vertex_[t[2]];
+      if (w0.cell == w1.cell && w0.cell == w2.cell) {
+        const double cs[3] = {w0.s, w1.s, w2.s}, ct[3] = {w0.t, w1.t, w2.t};
+        addCellTerms(frame, cs, ct, dJ, h, &out.cell[static_cast<size_t>(w0.cell) * kCellSums]);
+        continue;
+      }
       int node[12];
       Eigen::Vector2d G[12];
       int count = 0;
       for (int c = 0; c < 3; ++c) {
-        const Weights& w = vertex_[t[c]];
+        const std::array<int, 4> nodes = nodesOf(vertex_[t[c]]);
+        const std::array<double, 4> weights = weightsOf(vertex_[t[c]]);
         for (int q = 0; q < 4; ++q) {
-          if (w.weight[q] == 0) continue;
+          if (weights[q] == 0) continue;
           int k = 0;
-          while (k < count && node[k] != w.node[q]) ++k;
+          while (k < count && node[k] != nodes[q]) ++k;
           if (k == count) {
-            node[count] = w.node[q];
+            node[count] = nodes[q];
             G[count++].setZero();
           }
-          G[k] += w.weight[q] * frame.g[c];
+          G[k] += weights[q] * frame.g[c];
         }
       }
       const Eigen::Matrix2d huu = h.topLeftCorner<2, 2>(), huv = h.topRightCorner<2, 2>();
@@ -120,6 +143,48 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
   for (size_t s = 1; s < partial_.size(); ++s) {
     gradient_ += partial_[s].gradient;
     for (size_t i = 0; i < partial_[0].band.size(); ++i) partial_[0].band[i] += partial_[s].band[i];
+    for (size_t i = 0; i < partial_[0].cell.size(); ++i) partial_[0].cell[i] += partial_[s].cell[i];
+  }
+  addCellSums();
+}
+
+// The bilinear weight of a cell's node k (lower-left, lower-right, upper-left, upper-right) is
+// a + b s + c t + d s t; as the corners' gradients sum to zero, a face inside the cell carries
+// G_k = b A + c B + d C to node k, with A, B, C the sums of s g, t g and s t g over its corners.
+constexpr double kNodeCoefficients[4][3] = {{-1, -1, 1}, {1, 0, -1}, {0, 1, -1}, {0, 0, 1}};
+
+void GridNewtonSystem::addCellSums() {
+  const double* sums = partial_[0].cell.data();
+  double* band = partial_[0].band.data();
+  for (int cell = 0; cell < nx_ * ny_; ++cell, sums += kCellSums) {
+    if (std::all_of(sums, sums + kCellSums, [](double x) { return x == 0; })) continue;
+    const std::array<int, 4> node = nodesOf({cell, 0, 0});
+    // sums: the gradient's u and v parts (3 each), then the u-u, u-v, v-v blocks (3 x 3 each,
+    // row-major).
+    for (int k = 0; k < 4; ++k) {
+      const double* phi_k = kNodeCoefficients[k];
+      double gu = 0, gv = 0;
+      for (int a = 0; a < 3; ++a) {
+        gu += phi_k[a] * sums[a];
+        gv += phi_k[a] * sums[3 + a];
+      }
+      gradient_[2 * node[k]] += gu;
+      gradient_[2 * node[k] + 1] += gv;
+      for (int l = 0; l < 4; ++l) {
+        const double* phi_l = kNodeCoefficients[l];
+        double block[4] = {0, 0, 0, 0};  // uu, uv, vu, vv
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            const double weight = phi_k[a] * phi_l[b];
+            block[0] += weight * sums[6 + 3 * a + b];
+            block[1] += weight * sums[15 + 3 * a + b];
+            block[2] += weight * sums[15 + 3 * b + a];
+            block[3] += weight * sums[24 + 3 * a + b];
+          }
+        double* to = &band[(static_cast<size_t>(node[k]) * kBand + bandSlot(node[k], node[l])) * 4];
+        for (int e = 0; e < 4; ++e) to[e] += block[e];
+      }
+    }
   }
 }
 
@@ -180,9 +245,10 @@ bool GridNewtonSystem::solve(const LocalUVs& uv, const Energy& energy, Eigen::Ve
   last_work_ += factor_.lastWork();
   if (!solved) return false;
   for (int v = 0; v < n; ++v) {
+    const std::array<int, 4> nodes = nodesOf(vertex_[v]);
+    const std::array<double, 4> weights = weightsOf(vertex_[v]);
     Eigen::Vector2d d = Eigen::Vector2d::Zero();
-    for (int q = 0; q < 4; ++q)
-      d += vertex_[v].weight[q] * coarse.segment<2>(2 * vertex_[v].node[q]);
+    for (int q = 0; q < 4; ++q) d += weights[q] * coarse.segment<2>(2 * nodes[q]);
     direction.segment<2>(2 * v) = d;
   }
   slope_ = gradient_.dot(coarse);

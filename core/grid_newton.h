@@ -39,8 +39,8 @@ struct GridNewtonSettings {
 };
 
 // Work (work.h) per face of one grid system: the face's terms and their products with its
-// (mostly four) nodes' weights.
-constexpr double kGridFaceWork = WorkCosts::kNewtonHessianFace + 40 * WorkCosts::kNonzero;
+// (mostly four) nodes' weights, carried to them through its cell's sums.
+constexpr double kGridFaceWork = WorkCosts::kNewtonHessianFace + 10 * WorkCosts::kNonzero;
 
 class GridNewtonSystem {
  public:
@@ -60,14 +60,29 @@ class GridNewtonSystem {
   int nodeCount() const { return static_cast<int>(node_x_.size()); }
 
  private:
-  struct Weights {
-    std::array<int, 4> node;  // active node numbers
-    std::array<double, 4> weight;
+  // Where a vertex lies: its cell (by the lower-left node's grid number) and its place in it,
+  // (s, t) in [0, 1]^2; its weights are bilinear in s and t.
+  struct Place {
+    int cell;
+    double s, t;
   };
+  // A vertex's 4 nodes (active numbers: lower-left, lower-right, upper-left, upper-right) and
+  // their weights.
+  std::array<int, 4> nodesOf(const Place& p) const {
+    return {active_[p.cell], active_[p.cell + 1], active_[p.cell + nx_], active_[p.cell + nx_ + 1]};
+  }
+  static std::array<double, 4> weightsOf(const Place& p) {
+    return {(1 - p.s) * (1 - p.t), p.s * (1 - p.t), (1 - p.s) * p.t, p.s * p.t};
+  }
+  // A face whose corners share a cell carries its terms to the cell's 4 nodes through 3
+  // vectors (grid_newton.cpp): the cell's sums are kept in that reduced form, 33 numbers, and
+  // carried to the nodes once per cell.
+  static constexpr int kCellSums = 33;
   struct Partial {  // one slot's sums
     Eigen::VectorXd gradient;
     std::vector<double> band;                 // per node, kBand blocks of 4 (uu, uv, vu, vv)
     std::vector<Eigen::Triplet<double>> far;  // blocks between nodes further apart
+    std::vector<double> cell;                 // per cell, kCellSums
   };
   static constexpr int kReach = 2;  // the band: nodes up to this many cells apart in x and y
   static constexpr int kBandWidth = 2 * kReach + 1;
@@ -76,6 +91,7 @@ class GridNewtonSystem {
   bool layOver(const LocalUVs& uv);  // false when the map has no extent
   int bandSlot(int a, int b) const;
   void sumFaces(const LocalUVs& uv, const Energy& energy);
+  void addCellSums();
   void assembleMatrix();
 
   const Patch& patch_;
@@ -84,7 +100,7 @@ class GridNewtonSystem {
   double damping_;
   int nx_ = 0, ny_ = 0;
   std::vector<int> active_;  // per grid node: its active number, -1 when no vertex uses it
-  std::vector<Weights> vertex_;
+  std::vector<Place> vertex_;
   std::vector<int> node_x_, node_y_;
   std::vector<Partial> partial_;
   Eigen::VectorXd gradient_;

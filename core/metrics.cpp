@@ -143,16 +143,28 @@ StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layou
 int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
   const int faces = patch.real_face_count;
   std::vector<double> area(faces);
+  // Fixed ranges, their totals added in order, as in stretchMetrics.
+  const int slots = std::max(1, faces / 16384);
+  std::vector<double> totals(slots, 0.0);
+  parallelForSlots(faces, slots, [&](int first, int last, int slot) {
+    double total = 0;
+    for (int f = first; f < last; ++f) {
+      const auto& t = patch.face[f];
+      area[f] = signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
+      total += area[f];
+    }
+    totals[slot] = total;
+  });
   double total = 0;
-  for (int f = 0; f < faces; ++f) {
-    const auto& t = patch.face[f];
-    area[f] = signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
-    total += area[f];
-  }
+  for (double t : totals) total += t;
   const FlipRule rule(total);
+  std::vector<int> counts(slots, 0);
+  parallelForSlots(faces, slots, [&](int first, int last, int slot) {
+    for (int f = first; f < last; ++f)
+      if (rule.flipped(area[f])) ++counts[slot];
+  });
   int flipped = 0;
-  for (double a : area)
-    if (rule.flipped(a)) ++flipped;
+  for (int c : counts) flipped += c;
   return flipped;
 }
 

@@ -7,24 +7,30 @@
 
 #include "free_boundary.h"
 #include "geometry.h"
+#include "parallel.h"
 
 namespace sdp {
 
 Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   const double det = J[0] * J[3] - J[1] * J[2], fro = J.squaredNorm();
-  // Singular values: (s1 + s2)^2 = |J|^2 + 2 det and (s1 - s2)^2 = |J|^2 - 2 det.
+  // Singular values: (s1 + s2)^2 = |J|^2 + 2 det and (s1 - s2)^2 = |J|^2 - 2 det. Every
+  // eigenvalue below is a product of powers of 1/s1 and 1/s2: two divisions in all (the
+  // function is bound by their and the square roots' latency).
   const double sum = std::sqrt(std::max(fro + 2 * det, 0.0));
   const double s1 = 0.5 * (sum + std::sqrt(std::max(fro - 2 * det, 0.0)));
-  const double s2 = det / s1;
+  const double inv_det = 1 / det, inv1 = 1 / s1;
+  const double s2 = det * inv1, inv2 = s1 * inv_det;
   // V's first column: the eigenvector of J^T J for s1^2, from whichever of the two candidate
   // rows is longer (both vanish when s1 = s2, where any basis serves).
   const double p = J[0] * J[0] + J[2] * J[2], q = J[1] * J[1] + J[3] * J[3];
   const double r = J[0] * J[1] + J[2] * J[3], l1 = s1 * s1;
   const Eigen::Vector2d x(l1 - q, r), y(r, l1 - p);
   Eigen::Vector2d v1 = x.squaredNorm() >= y.squaredNorm() ? x : y;
-  v1 = v1.norm() > 0 ? Eigen::Vector2d(v1.normalized()) : Eigen::Vector2d(1, 0);
+  const double v1_norm2 = v1.squaredNorm();
+  v1 = v1_norm2 > 0 ? Eigen::Vector2d(v1 / std::sqrt(v1_norm2)) : Eigen::Vector2d(1, 0);
   Eigen::Vector2d u1(J[0] * v1.x() + J[1] * v1.y(), J[2] * v1.x() + J[3] * v1.y());
-  u1 = u1.norm() > 0 ? Eigen::Vector2d(u1.normalized()) : Eigen::Vector2d(1, 0);
+  const double u1_norm2 = u1.squaredNorm();
+  u1 = u1_norm2 > 0 ? Eigen::Vector2d(u1 / std::sqrt(u1_norm2)) : Eigen::Vector2d(1, 0);
   const Eigen::Vector2d v2(-v1.y(), v1.x()), u2(-u1.y(), u1.x());
   // u v^T in J's order (row by row).
   const auto outer = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
@@ -32,26 +38,33 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   };
   const Eigen::Vector4d twist = std::sqrt(0.5) * (outer(u2, v1) - outer(u1, v2));
   const Eigen::Vector4d flip = std::sqrt(0.5) * (outer(u2, v1) + outer(u1, v2));
-  const double floor = 1e-8 / (det * det);
-  const double s1_3 = s1 * s1 * s1, s2_3 = s2 * s2 * s2;
-  // det's Hessian raises the twist by area_weight and lowers the flip by it.
+  const double floor = 1e-8 * inv_det * inv_det;
+  const double inv1_2 = inv1 * inv1, inv2_2 = inv2 * inv2;
+  const double inv_both_3 = inv1_2 * inv1 * inv2_2 * inv2;  // 1 / (s1 s2)^3
+  // -2 (1/s1^3 + 1/s2^3) / (s1 + s2) = -2 (s1^2 - s1 s2 + s2^2) / (s1 s2)^3, and det's Hessian
+  // raises the twist by area_weight and lowers the flip by it.
+  const double s1s2 = s1 * s2, squares = s1 * s1 + s2 * s2;
   const std::array<std::pair<double, Eigen::Vector4d>, 2> modes = {{
-      {-2 * (1 / s1_3 + 1 / s2_3) / (s1 + s2) + area_weight, twist},
-      {2 * (s1 * s1 + s1 * s2 + s2 * s2) / (s1_3 * s2_3) - area_weight, flip},
+      {-2 * (squares - s1s2) * inv_both_3 + area_weight, twist},
+      {2 * (squares + s1s2) * inv_both_3 - area_weight, flip},
   }};
   Eigen::Matrix4d h = Eigen::Matrix4d::Zero();
   for (const auto& [value, vector] : modes)
     h.noalias() += std::max(value, floor) * vector * vector.transpose();
   // The scalings: [[6/s1^4, area_weight], [area_weight, 6/s2^4]] over (u1 v1^T, u2 v2^T), its
   // eigenvalues raised to the floor.
-  const double a = 6 / (s1_3 * s1), b = 6 / (s2_3 * s2);
-  const double mid = 0.5 * (a + b), rad = std::hypot(0.5 * (a - b), area_weight);
+  const double a = 6 * inv1_2 * inv1_2, b = 6 * inv2_2 * inv2_2;
+  const double mid = 0.5 * (a + b), half_gap = 0.5 * (a - b);
+  const double rad = std::sqrt(half_gap * half_gap + area_weight * area_weight);
   const double e1 = std::max(mid + rad, floor), e2 = std::max(mid - rad, floor);
   // The larger eigenvalue's eigenvector: (area_weight, mid + rad - a), or the axis of the
   // larger of a and b when area_weight = 0.
   Eigen::Vector2d top(area_weight, mid + rad - a);
-  if (!(top.norm() > 1e-300)) top = a >= b ? Eigen::Vector2d(1, 0) : Eigen::Vector2d(0, 1);
-  top.normalize();
+  const double top_norm2 = top.squaredNorm();
+  if (!(top_norm2 > 0))
+    top = a >= b ? Eigen::Vector2d(1, 0) : Eigen::Vector2d(0, 1);
+  else
+    top /= std::sqrt(top_norm2);
   const Eigen::Vector4d x1 = outer(u1, v1), x2 = outer(u2, v2);
   const Eigen::Vector4d p1 = top.x() * x1 + top.y() * x2, p2 = -top.y() * x1 + top.x() * x2;
   h.noalias() += e1 * p1 * p1.transpose();
@@ -77,43 +90,69 @@ FaceFrame faceFrame(const Patch& patch, int f, double tiny_area) {
   return frame;
 }
 
+// Both passes run on fixed ranges of faces (parallel.h): the sums are added in range order, the
+// same bits on any number of cores.
+static int faceSlots(int faces) {
+  return std::max(1, faces / 16384);
+}
+
 Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const LocalUVs& uv) {
+  const int faces = patch.real_face_count;
+  std::vector<Energy> partial(faceSlots(faces));
+  std::vector<char> collapsed(partial.size(), 0);
+  parallelForSlots(faces, static_cast<int>(partial.size()), [&](int begin, int end, int slot) {
+    Energy e;
+    for (int f = begin; f < end; ++f) {
+      if (frames[f].area == 0) continue;
+      const Eigen::Vector4d J = jacobian(frames[f], patch.face[f], uv);
+      const double det = determinant(J);
+      if (!(det > 0)) {
+        collapsed[slot] = 1;
+        return;
+      }
+      e.Q += frames[f].area * J.squaredNorm() / (det * det);
+      e.S += frames[f].area * det;
+    }
+    partial[slot] = e;
+  });
   Energy e;
-  for (int f = 0; f < patch.real_face_count; ++f) {
-    if (frames[f].area == 0) continue;
-    const Eigen::Vector4d J = jacobian(frames[f], patch.face[f], uv);
-    const double det = determinant(J);
-    if (!(det > 0)) return {std::numeric_limits<double>::infinity(), 1.0};
-    e.Q += frames[f].area * J.squaredNorm() / (det * det);
-    e.S += frames[f].area * det;
+  for (size_t slot = 0; slot < partial.size(); ++slot) {
+    if (collapsed[slot]) return {std::numeric_limits<double>::infinity(), 1.0};
+    e.Q += partial[slot].Q;
+    e.S += partial[slot].S;
   }
   return e;
 }
 
 // The largest t for which no face's signed UV area reaches zero along uv + t d.
 double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d) {
-  double limit = std::numeric_limits<double>::infinity();
-  for (int f = 0; f < patch.real_face_count; ++f) {
-    const auto& t = patch.face[f];
-    const Eigen::Vector2d p0 = uv[t[1]] - uv[t[0]], p1 = uv[t[2]] - uv[t[0]];
-    const Eigen::Vector2d d0 = d[t[1]] - d[t[0]], d1 = d[t[2]] - d[t[0]];
-    // area(t) ~ qc + qb t + qa t^2
-    const double qa = cross2(d0, d1), qb = cross2(p0, d1) + cross2(d0, p1), qc = cross2(p0, p1);
-    auto consider = [&](double root) {
-      if (root > 0 && std::isfinite(root)) limit = std::min(limit, root);
-    };
-    if (qa == 0) {
-      if (qb != 0) consider(-qc / qb);
-      continue;
+  const int faces = patch.real_face_count;
+  std::vector<double> partial(faceSlots(faces), std::numeric_limits<double>::infinity());
+  parallelForSlots(faces, static_cast<int>(partial.size()), [&](int begin, int end, int slot) {
+    double limit = std::numeric_limits<double>::infinity();
+    for (int f = begin; f < end; ++f) {
+      const auto& t = patch.face[f];
+      const Eigen::Vector2d p0 = uv[t[1]] - uv[t[0]], p1 = uv[t[2]] - uv[t[0]];
+      const Eigen::Vector2d d0 = d[t[1]] - d[t[0]], d1 = d[t[2]] - d[t[0]];
+      // area(t) ~ qc + qb t + qa t^2
+      const double qa = cross2(d0, d1), qb = cross2(p0, d1) + cross2(d0, p1), qc = cross2(p0, p1);
+      auto consider = [&](double root) {
+        if (root > 0 && std::isfinite(root)) limit = std::min(limit, root);
+      };
+      if (qa == 0) {
+        if (qb != 0) consider(-qc / qb);
+        continue;
+      }
+      const double disc = qb * qb - 4 * qa * qc;
+      if (disc < 0) continue;
+      // Roots without cancellation: q = -(qb + sign(qb) sqrt(disc)) / 2, roots q / qa and qc / q.
+      const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+      consider(q / qa);
+      if (q != 0) consider(qc / q);
     }
-    const double disc = qb * qb - 4 * qa * qc;
-    if (disc < 0) continue;
-    // Roots without cancellation: q = -(qb + sign(qb) sqrt(disc)) / 2, roots q / qa and qc / q.
-    const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
-    consider(q / qa);
-    if (q != 0) consider(qc / q);
-  }
-  return limit;
+    partial[slot] = limit;
+  });
+  return *std::min_element(partial.begin(), partial.end());
 }
 
 // One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
