@@ -1,6 +1,7 @@
 #include "checked_descent.h"
 
 #include <chrono>
+#include <new>
 #include <utility>
 
 #include "work.h"
@@ -100,7 +101,12 @@ void CheckedDescent::measureL2By(std::function<double()> l2_of, double start_l2)
 LocalUVs CheckedDescent::takeBest() {
   if (!l2_of_ || !best_moved_) return std::move(best_);
   addWork(patch_.real_face_count * WorkCosts::kMetricsFace);
-  StretchMetrics measured = stretchMetrics(patch_, best_);
+  StretchMetrics measured;
+  try {
+    measured = stretchMetrics(patch_, best_);
+  } catch (const std::bad_alloc&) {  // called from the methods' own out-of-memory handlers
+    return std::move(start_);
+  }
   // The method's measure and the metrics' differ in rounding (and on faces too small for a
   // frame): the start stays when the metrics do not rank the best map lower.
   if (measured.flipped_faces > 0 || !(measured.l2 < metrics_.l2)) return std::move(start_);
