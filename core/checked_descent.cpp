@@ -92,24 +92,31 @@ CheckedDescent::Outcome CheckedDescent::tryStep(
   return outcome;
 }
 
-void CheckedDescent::measureL2By(std::function<double()> l2_of, double start_l2) {
+void CheckedDescent::measureL2By(std::function<double()> l2_of, double start_l2,
+                                 const LocalUVs& start) {
   l2_of_ = std::move(l2_of);
   best_l2_ = start_l2;
-  start_ = best_;
+  start_ = &start;
 }
 
 LocalUVs CheckedDescent::takeBest() {
-  if (!l2_of_ || !best_moved_) return std::move(best_);
+  // best_moved_ is only set with measureL2By; l2_of_ itself is not called here (the caller's
+  // locals it reads may be gone, in the caller's out-of-memory handler).
+  if (!best_moved_) return std::move(best_);
   addWork(patch_.real_face_count * WorkCosts::kMetricsFace);
   StretchMetrics measured;
   try {
     measured = stretchMetrics(patch_, best_);
   } catch (const std::bad_alloc&) {  // called from the methods' own out-of-memory handlers
-    return std::move(start_);
+    fell_back_ = true;
+    return *start_;
   }
   // The method's measure and the metrics' differ in rounding (and on faces too small for a
   // frame): the start stays when the metrics do not rank the best map lower.
-  if (measured.flipped_faces > 0 || !(measured.l2 < metrics_.l2)) return std::move(start_);
+  if (measured.flipped_faces > 0 || !(measured.l2 < metrics_.l2)) {
+    fell_back_ = true;
+    return *start_;
+  }
   metrics_ = std::move(measured);
   return std::move(best_);
 }

@@ -20,7 +20,8 @@ namespace sdp {
 
 class CheckedDescent {
  public:
-  // `start` is one-to-one with its metrics in `metrics`, which follows the best map.
+  // `start` is one-to-one with its metrics in `metrics`, which follows the best map (with
+  // measureL2By: set once, by takeBest()).
   CheckedDescent(const Patch& patch, const LocalUVs& start, StretchMetrics& metrics,
                  const RefineBudget& budget, const Progress& progress, Stage stage);
 
@@ -49,11 +50,17 @@ class CheckedDescent {
   // The method measures each taken step's L2 itself (`l2_of`, called once the checks pass;
   // `start_l2` the start's by the same measure), and the full metrics are measured once, by
   // takeBest(), on the best map: each step then skips stretchMetrics' pass over the faces.
-  void measureL2By(std::function<double()> l2_of, double start_l2);
+  // `start` (the constructor's, which must outlive this) is what takeBest() falls back to: no
+  // copy of it is kept (at 1.65M vertices one would raise the run's peak memory).
+  void measureL2By(std::function<double()> l2_of, double start_l2, const LocalUVs& start);
   const LocalUVs& current() const { return current_; }
   LocalUVs& current() { return current_; }  // for a method's own rescaling of the start
   // The map with the lowest L2 seen (its metrics in `metrics`); the start if none was lower.
+  // With measureL2By, also the start when the metrics do not rank the best map lower or cannot
+  // be measured (out of memory): fellBack() then says so. Its measure is charged to the budget
+  // after the last step (60 units per face, under half a grid step), not predicted.
   LocalUVs takeBest();
+  bool fellBack() const { return fell_back_; }
 
  private:
   const Patch& patch_;
@@ -63,10 +70,11 @@ class CheckedDescent {
   Stage stage_;
   std::vector<BorderEdge> border_;  // the same for every check
   LocalUVs current_, candidate_, best_;
-  std::function<double()> l2_of_;  // measureL2By's
-  double best_l2_ = 0;             // by l2_of_
-  bool best_moved_ = false;        // a step beat the start (by l2_of_)
-  LocalUVs start_;                 // kept while l2_of_ decides
+  std::function<double()> l2_of_;    // measureL2By's
+  double best_l2_ = 0;               // by l2_of_
+  bool best_moved_ = false;          // a step beat the start (by l2_of_)
+  bool fell_back_ = false;           // takeBest() returned the start over a better-measured map
+  const LocalUVs* start_ = nullptr;  // measureL2By's
   RefineBudget::Clock::time_point step_start_;
   bool stepped_ = false;      // a step has begun
   double step_work_ = 0;      // the current step's work so far

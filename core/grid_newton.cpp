@@ -74,8 +74,9 @@ int GridNewtonSystem::bandSlot(int a, int b) const {
 
 // Per face, J's change under the grid's displacements d_k is sum_k (G_k . d_k^u, G_k . d_k^v)
 // with G_k = sum over the corners of the corner's weight for node k times its gradient g: the
-// face's gradient dJ and Hessian h carried to its nodes. The faces are split into fixed slots
-// summed in slot order: the same bits on any number of cores.
+// face's gradient dJ and Hessian h carried to its nodes. A face inside one cell goes through its
+// cell's sums (addCellTerms); one across cell edges computes its G_k here. The faces are split
+// into fixed slots summed in slot order: the same bits on any number of cores.
 void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
   const int m = nodeCount();
   const int faces = patch_.real_face_count;

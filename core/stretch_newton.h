@@ -68,7 +68,8 @@ struct StretchNewtonCounts {
 };
 
 // Up to `steps` Newton steps from `uv` (one-to-one, with its metrics in `metrics`). Returns the
-// map with the lowest L2 stretch seen (the start if none is lower) and its metrics in `metrics`.
+// map with the lowest L2 stretch seen (each step's from its energy, the returned map's measured)
+// and its metrics in `metrics`; the start, with steps_taken 0, when none is lower.
 // Virtual hole-fill vertices keep their positions. `progress` as in relaxWithFreeBoundary
 // (Stage::Newton).
 LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv, int steps,

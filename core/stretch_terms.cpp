@@ -14,8 +14,8 @@ namespace sdp {
 Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   const double det = J[0] * J[3] - J[1] * J[2], fro = J.squaredNorm();
   // Singular values: (s1 + s2)^2 = |J|^2 + 2 det and (s1 - s2)^2 = |J|^2 - 2 det. Every
-  // eigenvalue below is a product of powers of 1/s1 and 1/s2: two divisions in all (the
-  // function is bound by their and the square roots' latency).
+  // eigenvalue below is a product of powers of 1/s1 and 1/s2, so two divisions give them all
+  // (the function is bound by the latency of its divisions and square roots).
   const double sum = std::sqrt(std::max(fro + 2 * det, 0.0));
   const double s1 = 0.5 * (sum + std::sqrt(std::max(fro - 2 * det, 0.0)));
   const double inv_det = 1 / det, inv1 = 1 / s1;
@@ -55,7 +55,8 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   // eigenvalues raised to the floor.
   const double a = 6 * inv1_2 * inv1_2, b = 6 * inv2_2 * inv2_2;
   const double mid = 0.5 * (a + b), half_gap = 0.5 * (a - b);
-  const double rad = std::sqrt(half_gap * half_gap + area_weight * area_weight);
+  double rad = std::sqrt(half_gap * half_gap + area_weight * area_weight);
+  if (!std::isfinite(rad)) rad = std::hypot(half_gap, area_weight);  // s2 below ~1e-38
   const double e1 = std::max(mid + rad, floor), e2 = std::max(mid - rad, floor);
   // The larger eigenvalue's eigenvector: (area_weight, mid + rad - a), or the axis of the
   // larger of a and b when area_weight = 0.
