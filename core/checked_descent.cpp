@@ -59,7 +59,7 @@ CheckedDescent::Outcome CheckedDescent::tryStep(
     addWork(n * WorkCosts::kVectorEntry);
     if (admit && !admit(candidate_, length)) continue;
     addWork(faces * WorkCosts::kFlipCheckFace);
-    if (flippedFaceCount(patch_, candidate_) > 0) continue;
+    if (hasFlippedFace(patch_, candidate_)) continue;
     // The sweep sorts the border edges, then tests the few whose x ranges overlap.
     addWork(20.0 * border_.size() * WorkCosts::kNonzero);
     if (!edgesAreSimple(border_, candidate_)) continue;

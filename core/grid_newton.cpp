@@ -11,7 +11,11 @@ namespace sdp {
 
 GridNewtonSystem::GridNewtonSystem(const Patch& patch, const std::vector<FaceFrame>& frames,
                                    const GridNewtonSettings& settings)
-    : patch_(patch), frames_(frames), settings_(settings), damping_(settings.damping) {}
+    : patch_(patch),
+      frames_(frames),
+      settings_(settings),
+      damping_(settings.damping),
+      cells_(settings.cells) {}
 
 bool GridNewtonSystem::layOver(const LocalUVs& uv) {
   const int n = patch_.real_vertex_count;
@@ -20,7 +24,7 @@ bool GridNewtonSystem::layOver(const LocalUVs& uv) {
     lo = lo.cwiseMin(uv[v]);
     hi = hi.cwiseMax(uv[v]);
   }
-  const double side = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / settings_.cells;
+  const double side = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / cells_;
   if (!(side > 0) || !std::isfinite(side)) return false;  // no extent to lay a grid over
   nx_ = std::max(2, static_cast<int>(std::ceil((hi.x() - lo.x()) / side)) + 1);
   ny_ = std::max(2, static_cast<int>(std::ceil((hi.y() - lo.y()) / side)) + 1);
@@ -48,9 +52,10 @@ bool GridNewtonSystem::layOver(const LocalUVs& uv) {
 }
 
 // A face inside one cell: its gradient dJ and Hessian h in the reduced form of addCellSums(),
-// E^T dJ and E^T h E per pair of coordinates, with E = [A B C] (2 x 3).
+// E^T dJ and E^T h E per pair of coordinates, with E = [A B C] (2 x 3); h from its eigen-pairs
+// (value, w): E^T h_xy E = sum value (E^T w_x)(E^T w_y)^T.
 static void addCellTerms(const FaceFrame& frame, const double s[3], const double t[3],
-                         const Eigen::Vector4d& dJ, const Eigen::Matrix4d& h, double* sums) {
+                         const Eigen::Vector4d& dJ, const StretchModes& h, double* sums) {
   Eigen::Matrix<double, 2, 3> E = Eigen::Matrix<double, 2, 3>::Zero();
   for (int c = 0; c < 3; ++c) {
     E.col(0) += s[c] * frame.g[c];
@@ -61,9 +66,19 @@ static void addCellTerms(const FaceFrame& frame, const double s[3], const double
   Eigen::Map<Eigen::Vector3d>(sums + 3) += E.transpose() * dJ.tail<2>();
   // Row-major 3 x 3 blocks: u-u, u-v, v-v.
   using Block = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
-  Block(sums + 6) += E.transpose() * h.topLeftCorner<2, 2>() * E;
-  Block(sums + 15) += E.transpose() * h.topRightCorner<2, 2>() * E;
-  Block(sums + 24) += E.transpose() * h.bottomRightCorner<2, 2>() * E;
+  Eigen::Matrix3d uu = Eigen::Matrix3d::Zero(), uv = Eigen::Matrix3d::Zero(),
+                  vv = Eigen::Matrix3d::Zero();
+  for (int m = 0; m < 4; ++m) {
+    const Eigen::Vector3d a = E.transpose() * h.vector[m].head<2>();
+    const Eigen::Vector3d b = E.transpose() * h.vector[m].tail<2>();
+    const Eigen::Vector3d weighted = h.value[m] * a;
+    uu.noalias() += weighted * a.transpose();
+    uv.noalias() += weighted * b.transpose();
+    vv.noalias() += (h.value[m] * b) * b.transpose();
+  }
+  Block(sums + 6) += uu;
+  Block(sums + 15) += uv;
+  Block(sums + 24) += vv;
 }
 
 int GridNewtonSystem::bandSlot(int a, int b) const {
@@ -95,14 +110,15 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
       if (frame.area == 0) continue;
       const auto& t = patch_.face[f];
       Eigen::Vector4d dJ;
-      Eigen::Matrix4d h;
-      faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, h);
+      StretchModes modes;
+      faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, modes);
       const Place &w0 = vertex_[t[0]], &w1 = vertex_[t[1]], &w2 = vertex_[t[2]];
       if (w0.cell == w1.cell && w0.cell == w2.cell) {
         const double cs[3] = {w0.s, w1.s, w2.s}, ct[3] = {w0.t, w1.t, w2.t};
-        addCellTerms(frame, cs, ct, dJ, h, &out.cell[static_cast<size_t>(w0.cell) * kCellSums]);
+        addCellTerms(frame, cs, ct, dJ, modes, &out.cell[static_cast<size_t>(w0.cell) * kCellSums]);
         continue;
       }
+      const Eigen::Matrix4d h = modes.matrix();
       int node[12];
       Eigen::Vector2d G[12];
       int count = 0;

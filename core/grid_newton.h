@@ -31,6 +31,11 @@ struct GridNewtonSettings {
   // Cells on the map's longer side. 32 and not 64: the factor's work falls twelvefold, so the
   // budget affords more steps, which gain more than the finer grid (docs/measurements.md).
   int cells = 32;
+  // Once a step gains less than `finer_below` (its relative drop of the energy), or not the
+  // budget's least gain, the steps go on with `finer_cells` cells: the coarse grid's steps
+  // level off where the map still bends between its nodes.
+  int finer_cells = 64;
+  double finer_below = 0.005;
   double damping = 0.03;        // the first step's (see above)
   double damping_fall = 0.3;    // its factor after a full step...
   double damping_rise = 3;      // ... and after a step cut below half its length
@@ -39,8 +44,11 @@ struct GridNewtonSettings {
 };
 
 // Work (work.h) per face of one grid system: the face's terms and their products with its
-// (mostly four) nodes' weights, carried to them through its cell's sums.
-constexpr double kGridFaceWork = WorkCosts::kNewtonHessianFace + 10 * WorkCosts::kNonzero;
+// (mostly four) nodes' weights, carried to them through its cell's sums. Counted against the
+// other stages' units per nanosecond (bench/determinism.py) once the cell sums took the Hessian
+// as its eigen-pairs (stretchModes): 100 before, which put the newton stage at 1.36 units per
+// ns against the solve's 1.1 on face s2 and face s3.
+constexpr double kGridFaceWork = 72;
 
 class GridNewtonSystem {
  public:
@@ -58,6 +66,15 @@ class GridNewtonSystem {
   // Work (work.h) of the last solve().
   double lastWork() const { return last_work_; }
   int nodeCount() const { return static_cast<int>(node_x_.size()); }
+  int cells() const { return cells_; }
+  // After a step that lowered the energy by the fraction `gain` (0 when it did not gain the
+  // budget's least): the next steps take the finer grid when the step gained under
+  // finer_below. True when the grid changed.
+  bool refineAfter(double gain) {
+    if (!(gain < settings_.finer_below) || cells_ >= settings_.finer_cells) return false;
+    cells_ = settings_.finer_cells;
+    return true;
+  }
 
  private:
   // Where a vertex lies: its cell (by the lower-left node's grid number) and its place in it,
@@ -98,6 +115,7 @@ class GridNewtonSystem {
   const std::vector<FaceFrame>& frames_;
   const GridNewtonSettings settings_;
   double damping_;
+  int cells_;
   int nx_ = 0, ny_ = 0;
   std::vector<int> active_;  // per grid node: its active number, -1 when no vertex uses it
   std::vector<Place> vertex_;

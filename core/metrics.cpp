@@ -68,7 +68,7 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
   std::vector<FaceStretch> stretch(faces);
   // Fixed ranges of about 16k faces, their area sums added in order: the same total whatever
   // the number of cores (parallel.h).
-  const int slots = std::max(1, faces / 16384);
+  const int slots = faceSumSlots(faces);
   std::vector<Eigen::Vector2d> area_sums(slots, Eigen::Vector2d::Zero());
   parallelForSlots(faces, slots, [&](int first, int last, int slot) {
     Eigen::Vector2d sums = Eigen::Vector2d::Zero();
@@ -140,32 +140,40 @@ StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layou
   return m;
 }
 
-int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
+bool hasFlippedFace(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
   const int faces = patch.real_face_count;
-  std::vector<double> area(faces);
-  // Fixed ranges, their totals added in order, as in stretchMetrics.
-  const int slots = std::max(1, faces / 16384);
-  std::vector<double> totals(slots, 0.0);
+  // One pass: per fixed range (as in stretchMetrics) the total signed area and the smallest and
+  // largest face's; the rule's tiny area and side follow from the total, summed in range order.
+  const int slots = faceSumSlots(faces);
+  struct Range {
+    double total = 0, least = std::numeric_limits<double>::infinity();
+    double most = -std::numeric_limits<double>::infinity();
+    bool not_a_number = false;
+  };
+  std::vector<Range> ranges(slots);
   parallelForSlots(faces, slots, [&](int first, int last, int slot) {
-    double total = 0;
+    Range r;
     for (int f = first; f < last; ++f) {
       const auto& t = patch.face[f];
-      area[f] = signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
-      total += area[f];
+      const double area = signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
+      r.total += area;
+      r.least = std::min(r.least, area);
+      r.most = std::max(r.most, area);
+      r.not_a_number |= std::isnan(area);
     }
-    totals[slot] = total;
+    ranges[slot] = r;
   });
-  double total = 0;
-  for (double t : totals) total += t;
-  const FlipRule rule(total);
-  std::vector<int> counts(slots, 0);
-  parallelForSlots(faces, slots, [&](int first, int last, int slot) {
-    for (int f = first; f < last; ++f)
-      if (rule.flipped(area[f])) ++counts[slot];
-  });
-  int flipped = 0;
-  for (int c : counts) flipped += c;
-  return flipped;
+  Range all;
+  for (const Range& r : ranges) {
+    all.total += r.total;
+    all.least = std::min(all.least, r.least);
+    all.most = std::max(all.most, r.most);
+    all.not_a_number |= r.not_a_number;
+  }
+  if (faces == 0) return false;
+  const FlipRule rule(all.total);
+  // The rule's margin is monotone in the area: the face nearest the wrong side decides.
+  return all.not_a_number || rule.flipped(all.least) || rule.flipped(all.most);
 }
 
 }  // namespace sdp

@@ -51,7 +51,7 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
 // flip rule per chart, one normalization over the whole layout (vertex_l2 left empty).
 StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layout& layout);
 
-// Only the flipped-face count of stretchMetrics (same rule), without the stretch.
-int flippedFaceCount(const Patch& patch, const std::vector<Eigen::Vector2d>& uv);
+// Whether stretchMetrics would count a flipped face (same rule), without the stretch.
+bool hasFlippedFace(const Patch& patch, const std::vector<Eigen::Vector2d>& uv);
 
 }  // namespace sdp

@@ -309,6 +309,10 @@ class NewtonDirection {
   void adapt(double length, int halvings) {
     if (grid_) grid_->adapt(length, halvings);
   }
+  // After a grid step that lowered the energy by the fraction `gain`: true when the next steps
+  // take the finer grid (GridNewtonSystem::refineAfter).
+  bool refineGrid(double gain) { return grid_ && grid_->refineAfter(gain); }
+  int gridCells() const { return grid_ ? grid_->cells() : 0; }
   void leaveGridPhase() {
     grid_phase_ = false;
     grid_.reset();
@@ -377,11 +381,12 @@ class NewtonDirection {
 
 }  // namespace
 
-double gridNewtonStepWork(int faces) {
+double gridNewtonStepWork(int faces, int cells) {
   // The terms and products (kGridFaceWork), the collapse cap, one trial's energy and flip
   // check (its L2 comes from the energy); and the grid's factor, about 1e7 at 32 cells whatever
-  // the patch's size (1.2e8 at 64; counted on face s2 and face s1).
-  return faces * (kGridFaceWork + WorkCosts::kFlipCheckFace * 2 + WorkCosts::kEnergyFace) + 1e7;
+  // the patch's size and 1.2e8 at 64 (counted on face s2 and face s1): 2^3.6 per doubling.
+  return faces * (kGridFaceWork + WorkCosts::kFlipCheckFace * 2 + WorkCosts::kEnergyFace) +
+         1e7 * std::pow(cells / 32.0, 3.6);
 }
 
 double firstFineNewtonStepWork(int faces) {
@@ -463,6 +468,11 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
         newton.adapt(length, outcome.halvings);
         const double before = energy.value();
         energy = trial;
+        const double gain = outcome.gained ? 1 - energy.value() / before : 0;
+        if (grid && newton.refineGrid(gain)) {
+          descent->expectNextStepWork(gridNewtonStepWork(faces, newton.gridCells()));
+          continue;
+        }
         if (!outcome.gained) {
           finished = !grid;
           break;

@@ -53,7 +53,7 @@ struct StretchNewtonSettings {
 
 // The expected work (work.h) of one grid step, and of the first fine step without the sparse
 // factor (its set-up, one update, the conjugate gradients), on a patch of `faces` faces.
-double gridNewtonStepWork(int faces);
+double gridNewtonStepWork(int faces, int cells = GridNewtonSettings().cells);
 double firstFineNewtonStepWork(int faces);
 
 // True when a patch of `vertices` real vertices takes the conjugate-gradient path.

@@ -11,7 +11,7 @@
 
 namespace sdp {
 
-Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
+StretchModes stretchModes(const Eigen::Vector4d& J, double area_weight) {
   const double det = J[0] * J[3] - J[1] * J[2], fro = J.squaredNorm();
   // Singular values: (s1 + s2)^2 = |J|^2 + 2 det and (s1 - s2)^2 = |J|^2 - 2 det. Every
   // eigenvalue below is a product of powers of 1/s1 and 1/s2, so two divisions give them all
@@ -28,9 +28,9 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   Eigen::Vector2d v1 = x.squaredNorm() >= y.squaredNorm() ? x : y;
   const double v1_norm2 = v1.squaredNorm();
   v1 = v1_norm2 > 0 ? Eigen::Vector2d(v1 / std::sqrt(v1_norm2)) : Eigen::Vector2d(1, 0);
-  Eigen::Vector2d u1(J[0] * v1.x() + J[1] * v1.y(), J[2] * v1.x() + J[3] * v1.y());
-  const double u1_norm2 = u1.squaredNorm();
-  u1 = u1_norm2 > 0 ? Eigen::Vector2d(u1 / std::sqrt(u1_norm2)) : Eigen::Vector2d(1, 0);
+  // J v1 = s1 u1 (s1 > 0 as det > 0).
+  const Eigen::Vector2d u1 =
+      inv1 * Eigen::Vector2d(J[0] * v1.x() + J[1] * v1.y(), J[2] * v1.x() + J[3] * v1.y());
   const Eigen::Vector2d v2(-v1.y(), v1.x()), u2(-u1.y(), u1.x());
   // u v^T in J's order (row by row).
   const auto outer = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
@@ -44,13 +44,11 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   // -2 (1/s1^3 + 1/s2^3) / (s1 + s2) = -2 (s1^2 - s1 s2 + s2^2) / (s1 s2)^3, and det's Hessian
   // raises the twist by area_weight and lowers the flip by it.
   const double s1s2 = s1 * s2, squares = s1 * s1 + s2 * s2;
-  const std::array<std::pair<double, Eigen::Vector4d>, 2> modes = {{
-      {-2 * (squares - s1s2) * inv_both_3 + area_weight, twist},
-      {2 * (squares + s1s2) * inv_both_3 - area_weight, flip},
-  }};
-  Eigen::Matrix4d h = Eigen::Matrix4d::Zero();
-  for (const auto& [value, vector] : modes)
-    h.noalias() += std::max(value, floor) * vector * vector.transpose();
+  StretchModes modes;
+  modes.value[0] = std::max(-2 * (squares - s1s2) * inv_both_3 + area_weight, floor);
+  modes.vector[0] = twist;
+  modes.value[1] = std::max(2 * (squares + s1s2) * inv_both_3 - area_weight, floor);
+  modes.vector[1] = flip;
   // The scalings: [[6/s1^4, area_weight], [area_weight, 6/s2^4]] over (u1 v1^T, u2 v2^T), its
   // eigenvalues raised to the floor.
   const double a = 6 * inv1_2 * inv1_2, b = 6 * inv2_2 * inv2_2;
@@ -67,10 +65,21 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
   else
     top /= std::sqrt(top_norm2);
   const Eigen::Vector4d x1 = outer(u1, v1), x2 = outer(u2, v2);
-  const Eigen::Vector4d p1 = top.x() * x1 + top.y() * x2, p2 = -top.y() * x1 + top.x() * x2;
-  h.noalias() += e1 * p1 * p1.transpose();
-  h.noalias() += e2 * p2 * p2.transpose();
+  modes.value[2] = e1;
+  modes.vector[2] = top.x() * x1 + top.y() * x2;
+  modes.value[3] = e2;
+  modes.vector[3] = -top.y() * x1 + top.x() * x2;
+  return modes;
+}
+
+Eigen::Matrix4d StretchModes::matrix() const {
+  Eigen::Matrix4d h = Eigen::Matrix4d::Zero();
+  for (int m = 0; m < 4; ++m) h.noalias() += value[m] * vector[m] * vector[m].transpose();
   return h;
+}
+
+Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight) {
+  return stretchModes(J, area_weight).matrix();
 }
 
 FaceFrame faceFrame(const Patch& patch, int f, double tiny_area) {
@@ -93,13 +102,9 @@ FaceFrame faceFrame(const Patch& patch, int f, double tiny_area) {
 
 // Both passes run on fixed ranges of faces (parallel.h): the sums are added in range order, the
 // same bits on any number of cores.
-static int faceSlots(int faces) {
-  return std::max(1, faces / 16384);
-}
-
 Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const LocalUVs& uv) {
   const int faces = patch.real_face_count;
-  std::vector<Energy> partial(faceSlots(faces));
+  std::vector<Energy> partial(faceSumSlots(faces));
   std::vector<char> collapsed(partial.size(), 0);
   parallelForSlots(faces, static_cast<int>(partial.size()), [&](int begin, int end, int slot) {
     Energy e;
@@ -128,7 +133,7 @@ Energy energyOf(const Patch& patch, const std::vector<FaceFrame>& frames, const 
 // The largest t for which no face's signed UV area reaches zero along uv + t d.
 double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs& d) {
   const int faces = patch.real_face_count;
-  std::vector<double> partial(faceSlots(faces), std::numeric_limits<double>::infinity());
+  std::vector<double> partial(faceSumSlots(faces), std::numeric_limits<double>::infinity());
   parallelForSlots(faces, static_cast<int>(partial.size()), [&](int begin, int end, int slot) {
     double limit = std::numeric_limits<double>::infinity();
     for (int f = begin; f < end; ++f) {
@@ -161,12 +166,20 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
 // S * A |J|^2 / det^2 + Q * A det: summed over the faces, S Hess(Q) + Q Hess(S). Only the cross
 // terms dQ dS^T are left out (the energy is scale-invariant and each step is rescaled).
 void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
-                     Eigen::Vector4d& dJ, Eigen::Matrix4d& h) {
+                     Eigen::Vector4d& dJ, StretchModes& h) {
   const double det = determinant(J), fro = J.squaredNorm();
   const Eigen::Vector4d cof(J[3], -J[2], -J[1], J[0]);  // d det / d J
   const double q2 = det * det, q3 = q2 * det;
   dJ = frame.area * (energy.S * (2 * J / q2 - 2 * fro / q3 * cof) + energy.Q * cof);
-  h = stretchHessian(J, energy.Q / energy.S) * (energy.S * frame.area);
+  h = stretchModes(J, energy.Q / energy.S);
+  for (double& value : h.value) value *= energy.S * frame.area;
+}
+
+void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
+                     Eigen::Vector4d& dJ, Eigen::Matrix4d& h) {
+  StretchModes modes;
+  faceNewtonTerms(frame, J, energy, dJ, modes);
+  h = modes.matrix();
 }
 
 }  // namespace sdp

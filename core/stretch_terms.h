@@ -60,6 +60,15 @@ double stepBeforeCollapse(const Patch& patch, const LocalUVs& uv, const LocalUVs
 // 1e-8 / det^2 are raised to it: the same projection as a 4x4 eigensolver's, which took half
 // of a matrix-free Newton step's time.
 Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight = 0);
+// The same Hessian as its four eigen-pairs (unit vectors in J's coordinates, values raised to
+// the floor): a sum over faces of its products with a few vectors costs less from the pairs
+// than from the 4x4 matrix.
+struct StretchModes {
+  std::array<double, 4> value;
+  std::array<Eigen::Vector4d, 4> vector;
+  Eigen::Matrix4d matrix() const;  // sum_m value[m] vector[m] vector[m]^T
+};
+StretchModes stretchModes(const Eigen::Vector4d& J, double area_weight = 0);
 
 // One face's share of the Newton system at its Jacobian J, in J's coordinates: the gradient
 // dJ of Q * S and, made positive semi-definite (stretchHessian), the Hessian of the face's
@@ -69,5 +78,8 @@ Eigen::Matrix4d stretchHessian(const Eigen::Vector4d& J, double area_weight = 0)
 // dQ dS^T are left out (the energy is scale-invariant and each step is rescaled).
 void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
                      Eigen::Vector4d& dJ, Eigen::Matrix4d& h);
+// The same with the Hessian as its eigen-pairs.
+void faceNewtonTerms(const FaceFrame& frame, const Eigen::Vector4d& J, const Energy& energy,
+                     Eigen::Vector4d& dJ, StretchModes& h);
 
 }  // namespace sdp

@@ -52,21 +52,33 @@ TEST(Metrics, FlippedAndDegenerateFacesAreCounted) {
   const Patch patch = buildPatch(m.V, m.F);
   std::vector<Eigen::Vector2d> uv = affineUVs(patch, Eigen::Matrix2d::Identity());
   EXPECT_EQ(stretchMetrics(patch, uv).flipped_faces, 0);
+  EXPECT_FALSE(hasFlippedFace(patch, uv));
   // A mirrored layout is still one-to-one: orientation follows the majority.
   Eigen::Matrix2d mirror;
   mirror << -1, 0, 0, 1;
   EXPECT_EQ(stretchMetrics(patch, affineUVs(patch, mirror)).flipped_faces, 0);
+  EXPECT_FALSE(hasFlippedFace(patch, affineUVs(patch, mirror)));
   // Pull one interior vertex across its neighbour: some of its faces fold.
   const int v = patch.local_vertex[2 * 5 + 2];
   uv[v] += Eigen::Vector2d(1.2, 0);
   const StretchMetrics folded = stretchMetrics(patch, uv);
   EXPECT_GT(folded.flipped_faces, 0);
+  EXPECT_TRUE(hasFlippedFace(patch, uv));
   EXPECT_TRUE(std::isfinite(folded.l2));  // folded, but measurable (peers' maps fold)
+  // The same fold in a mirrored layout: the majority's side is the other one.
+  std::vector<Eigen::Vector2d> mirrored = uv;
+  for (auto& p : mirrored) p.x() = -p.x();
+  EXPECT_TRUE(hasFlippedFace(patch, mirrored));
   // Collapse a face to a segment: degenerate counts too.
   uv = affineUVs(patch, Eigen::Matrix2d::Identity());
   const auto& t = patch.face[0];
   uv[t[2]] = 0.5 * (uv[t[0]] + uv[t[1]]);
   EXPECT_GE(stretchMetrics(patch, uv).flipped_faces, 1);
+  EXPECT_TRUE(hasFlippedFace(patch, uv));
+  // A coordinate that is not a number counts as flipped.
+  uv = affineUVs(patch, Eigen::Matrix2d::Identity());
+  uv[v].x() = std::nan("");
+  EXPECT_TRUE(hasFlippedFace(patch, uv));
 }
 
 }  // namespace
