@@ -157,6 +157,11 @@ bool InteriorSolver::tighten() {
   return true;
 }
 
+void InteriorSolver::loosen(double tolerance) {
+  if (tolerance > settings_.tolerance && settings_.tolerance > settings_.tight_tolerance)
+    settings_.tolerance = tolerance;
+}
+
 void InteriorSolver::solveDirectly(const SplitCsr& A, const RightHandSides& rhs,
                                    RightHandSides& x) {
   const auto start = Clock::now();

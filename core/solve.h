@@ -70,6 +70,9 @@ class InteriorSolver {
   // Later solves go to settings.tight_tolerance. Returns false when that changes nothing (the
   // last solve was direct, or already tight).
   bool tighten();
+  // Later solves go to `tolerance` when it is looser than the current one and no solve has
+  // been tightened: for a map that is only a start. A fold still leads to tighten().
+  void loosen(double tolerance);
 
  private:
   using RightHandSides = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;

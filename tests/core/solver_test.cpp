@@ -117,6 +117,25 @@ TEST(InteriorSolver, DefaultToleranceIsCloseToLuAndTightens) {
   }
 }
 
+// loosen() lets later solves stop at a looser residual (fewer iterations), never after a
+// tighten(): a mesh that needed tight solves keeps them.
+TEST(InteriorSolver, LoosenStopsEarlierButNeverUndoesTighten) {
+  const CircleSystem s = circleSystem(cases().front());
+  InteriorSolver strict(s.patch, method(SolverMethod::Multigrid));
+  InteriorSolver loose(s.patch, method(SolverMethod::Multigrid));
+  loose.loosen(1e-4);
+  strict.solve(s.weights, s.boundary);
+  loose.solve(s.weights, s.boundary);
+  EXPECT_LE(loose.lastStats().relative_residual, 1e-4);
+  EXPECT_GT(loose.lastStats().relative_residual, 1e-8);
+  EXPECT_LT(loose.lastStats().iterations, strict.lastStats().iterations);
+  ASSERT_TRUE(loose.tighten());
+  loose.loosen(1e-4);  // ignored: tightened
+  const LocalUVs tight = loose.solve(s.weights, s.boundary);
+  EXPECT_LE(loose.lastStats().relative_residual, SolverSettings().tight_tolerance);
+  EXPECT_LT(maxDifference(tight, s.exactSolution()), 1e-9);
+}
+
 // u and v on two threads give the lockstep answer (each column is the same BiCGSTAB).
 TEST(InteriorSolver, ParallelColumnsMatchLockstep) {
   const CircleSystem s = circleSystem(cases().front());
