@@ -37,7 +37,7 @@ bool GridNewtonSystem::layOver(const LocalUVs& uv) {
     const double s = std::clamp(p.x() - ix, 0.0, 1.0), t = std::clamp(p.y() - iy, 0.0, 1.0);
     const int base = iy * nx_ + ix;
     vertex_[v] = {base, s, t};
-    for (int node : {base, base + 1, base + nx_, base + nx_ + 1}) active_[node] = 0;
+    for (int node : cellCorners(base)) active_[node] = 0;
   }
   // The nodes some vertex uses, numbered in grid order.
   node_x_.clear();
@@ -175,7 +175,7 @@ void GridNewtonSystem::addCellSums() {
   double* band = partial_[0].band.data();
   for (int cell = 0; cell < nx_ * ny_; ++cell, sums += kCellSums) {
     if (std::all_of(sums, sums + kCellSums, [](double x) { return x == 0; })) continue;
-    const std::array<int, 4> node = nodesOf({cell, 0, 0});
+    const std::array<int, 4> node = cellNodes(cell);
     // sums: the gradient's u and v parts (3 each), then the u-u, u-v, v-v blocks (3 x 3 each,
     // row-major).
     for (int k = 0; k < 4; ++k) {

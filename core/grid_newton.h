@@ -83,11 +83,18 @@ class GridNewtonSystem {
     int cell;
     double s, t;
   };
-  // A vertex's 4 nodes (active numbers: lower-left, lower-right, upper-left, upper-right) and
-  // their weights.
-  std::array<int, 4> nodesOf(const Place& p) const {
-    return {active_[p.cell], active_[p.cell + 1], active_[p.cell + nx_], active_[p.cell + nx_ + 1]};
+  // A cell's 4 corner nodes by grid number: lower-left, lower-right, upper-left, upper-right.
+  std::array<int, 4> cellCorners(int cell) const {
+    return {cell, cell + 1, cell + nx_, cell + nx_ + 1};
   }
+  // A cell's 4 nodes by active number, in cellCorners' order.
+  std::array<int, 4> cellNodes(int cell) const {
+    std::array<int, 4> nodes = cellCorners(cell);
+    for (int& node : nodes) node = active_[node];
+    return nodes;
+  }
+  // A vertex's 4 nodes (active numbers) and their weights.
+  std::array<int, 4> nodesOf(const Place& p) const { return cellNodes(p.cell); }
   static std::array<double, 4> weightsOf(const Place& p) {
     return {(1 - p.s) * (1 - p.t), p.s * (1 - p.t), (1 - p.s) * p.t, p.s * p.t};
   }

@@ -379,6 +379,13 @@ class NewtonDirection {
   std::optional<AssembledNewtonSystem> matrix_free_;
 };
 
+// The descent's best map; no step counts as taken when it fell back to the start.
+LocalUVs bestOf(CheckedDescent& descent, StretchNewtonCounts& counts) {
+  LocalUVs best = descent.takeBest();
+  if (descent.fellBack()) counts.steps_taken = 0;
+  return best;
+}
+
 }  // namespace
 
 double gridNewtonStepWork(int faces, int cells) {
@@ -488,15 +495,11 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
       }
       if (finished) break;
     }
-    LocalUVs best = descent->takeBest();
-    if (descent->fellBack()) counts.steps_taken = 0;
-    return best;
+    return bestOf(*descent, counts);
   } catch (const std::bad_alloc&) {
     counts.skipped = true;  // the system did not fit: keep the best map so far
     if (!descent) return uv;
-    LocalUVs best = descent->takeBest();
-    if (descent->fellBack()) counts.steps_taken = 0;
-    return best;
+    return bestOf(*descent, counts);
   }
 }
 
