@@ -15,7 +15,9 @@ GridNewtonSystem::GridNewtonSystem(const Patch& patch, const std::vector<FaceFra
       frames_(frames),
       settings_(settings),
       damping_(settings.damping),
-      cells_(settings.cells) {}
+      cells_(settings.cells) {
+  for (const FaceFrame& frame : frames) area_ += frame.area;
+}
 
 bool GridNewtonSystem::layOver(const LocalUVs& uv) {
   const int n = patch_.real_vertex_count;
@@ -51,19 +53,31 @@ bool GridNewtonSystem::layOver(const LocalUVs& uv) {
   return true;
 }
 
-// A face inside one cell: its gradient dJ and Hessian h in the reduced form of addCellSums(),
-// E^T dJ and E^T h E per pair of coordinates, with E = [A B C] (2 x 3); h from its eigen-pairs
-// (value, w): E^T h_xy E = sum value (E^T w_x)(E^T w_y)^T.
-static void addCellTerms(const FaceFrame& frame, const double s[3], const double t[3],
-                         const Eigen::Vector4d& dJ, const StretchModes& h, double* sums) {
+// A face's corners at (s, t) in one cell's coordinates (inside it, or beyond its edges for the
+// extrapolated weights of a face across them): E = [A B C] (2 x 3), the sums of s g, t g and
+// s t g over the corners, through which the face reaches the cell's 4 nodes (addCellSums()).
+static Eigen::Matrix<double, 2, 3> cellFrame(const FaceFrame& frame, const double s[3],
+                                             const double t[3]) {
   Eigen::Matrix<double, 2, 3> E = Eigen::Matrix<double, 2, 3>::Zero();
   for (int c = 0; c < 3; ++c) {
     E.col(0) += s[c] * frame.g[c];
     E.col(1) += t[c] * frame.g[c];
     E.col(2) += s[c] * t[c] * frame.g[c];
   }
+  return E;
+}
+
+// The face's gradient dJ in the cell's reduced form: E^T dJ per coordinate.
+static void addCellGradient(const Eigen::Matrix<double, 2, 3>& E, const Eigen::Vector4d& dJ,
+                            double* sums) {
   Eigen::Map<Eigen::Vector3d>(sums) += E.transpose() * dJ.head<2>();
   Eigen::Map<Eigen::Vector3d>(sums + 3) += E.transpose() * dJ.tail<2>();
+}
+
+// `share` of the face's Hessian h in the cell's reduced form, E^T h E per pair of coordinates,
+// from its eigen-pairs (value, w): E^T h_xy E = sum value (E^T w_x)(E^T w_y)^T.
+static void addCellHessian(const Eigen::Matrix<double, 2, 3>& E, const StretchModes& h,
+                           double share, double* sums) {
   // Row-major 3 x 3 blocks: u-u, u-v, v-v.
   using Block = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
   Eigen::Matrix3d uu = Eigen::Matrix3d::Zero(), uv = Eigen::Matrix3d::Zero(),
@@ -71,10 +85,11 @@ static void addCellTerms(const FaceFrame& frame, const double s[3], const double
   for (int m = 0; m < 4; ++m) {
     const Eigen::Vector3d a = E.transpose() * h.vector[m].head<2>();
     const Eigen::Vector3d b = E.transpose() * h.vector[m].tail<2>();
-    const Eigen::Vector3d weighted = h.value[m] * a;
+    const double value = share * h.value[m];
+    const Eigen::Vector3d weighted = value * a;
     uu.noalias() += weighted * a.transpose();
     uv.noalias() += weighted * b.transpose();
-    vv.noalias() += (h.value[m] * b) * b.transpose();
+    vv.noalias() += (value * b) * b.transpose();
   }
   Block(sums + 6) += uu;
   Block(sums + 15) += uv;
@@ -90,8 +105,10 @@ int GridNewtonSystem::bandSlot(int a, int b) const {
 // Per face, J's change under the grid's displacements d_k is sum_k (G_k . d_k^u, G_k . d_k^v)
 // with G_k = sum over the corners of the corner's weight for node k times its gradient g: the
 // face's gradient dJ and Hessian h carried to its nodes. A face inside one cell goes through its
-// cell's sums (addCellTerms); one across cell edges computes its G_k here. The faces are split
-// into fixed slots summed in slot order: the same bits on any number of cores.
+// cell's sums (cellFrame); one across cell edges computes its G_k here for the gradient, and
+// carries its Hessian exactly only when it is stiff (GridNewtonSettings::exact_below): else a
+// third to each corner's cell, as if the face lay in it. The faces are split into fixed slots
+// summed in slot order: the same bits on any number of cores.
 void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
   const int m = nodeCount();
   const int faces = patch_.real_face_count;
@@ -103,6 +120,12 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
     p.far.clear();
     p.cell.assign(static_cast<size_t>(nx_) * ny_ * kCellSums, 0.0);
   }
+  // A face's Hessian is stiff when its largest eigenvalue passes that of a face squeezed to
+  // exact_below of its size along one direction, in the map scaled to the patch's area: the
+  // scaling's 6 / s^4 (stretchHessian) times S and the face's area (faceNewtonTerms), with
+  // s = exact_below sqrt(S / A).
+  const double scale = energy.S / area_;
+  const double stiff_value = energy.S * 6 / std::pow(settings_.exact_below, 4) / (scale * scale);
   parallelForSlots(faces, slots, [&](int begin, int end, int slot) {
     Partial& out = partial_[slot];
     for (int f = begin; f < end; ++f) {
@@ -115,10 +138,12 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
       const Place &w0 = vertex_[t[0]], &w1 = vertex_[t[1]], &w2 = vertex_[t[2]];
       if (w0.cell == w1.cell && w0.cell == w2.cell) {
         const double cs[3] = {w0.s, w1.s, w2.s}, ct[3] = {w0.t, w1.t, w2.t};
-        addCellTerms(frame, cs, ct, dJ, modes, &out.cell[static_cast<size_t>(w0.cell) * kCellSums]);
+        const Eigen::Matrix<double, 2, 3> E = cellFrame(frame, cs, ct);
+        double* sums = &out.cell[static_cast<size_t>(w0.cell) * kCellSums];
+        addCellGradient(E, dJ, sums);
+        addCellHessian(E, modes, 1.0, sums);
         continue;
       }
-      const Eigen::Matrix4d h = modes.matrix();
       int node[12];
       Eigen::Vector2d G[12];
       int count = 0;
@@ -136,11 +161,28 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
           G[k] += weights[q] * frame.g[c];
         }
       }
-      const Eigen::Matrix2d huu = h.topLeftCorner<2, 2>(), huv = h.topRightCorner<2, 2>();
-      const Eigen::Matrix2d hvu = h.bottomLeftCorner<2, 2>(), hvv = h.bottomRightCorner<2, 2>();
       for (int l = 0; l < count; ++l) {
         out.gradient[2 * node[l]] += G[l].dot(dJ.head<2>());
         out.gradient[2 * node[l] + 1] += G[l].dot(dJ.tail<2>());
+      }
+      if (!(*std::max_element(modes.value.begin(), modes.value.end()) > stiff_value * frame.area)) {
+        const Place* corner[3] = {&w0, &w1, &w2};
+        for (const Place* home : corner) {
+          const int hx = home->cell % nx_, hy = home->cell / nx_;
+          double cs[3], ct[3];
+          for (int c = 0; c < 3; ++c) {
+            cs[c] = corner[c]->s + (corner[c]->cell % nx_ - hx);
+            ct[c] = corner[c]->t + (corner[c]->cell / nx_ - hy);
+          }
+          addCellHessian(cellFrame(frame, cs, ct), modes, 1.0 / 3,
+                         &out.cell[static_cast<size_t>(home->cell) * kCellSums]);
+        }
+        continue;
+      }
+      const Eigen::Matrix4d h = modes.matrix();
+      const Eigen::Matrix2d huu = h.topLeftCorner<2, 2>(), huv = h.topRightCorner<2, 2>();
+      const Eigen::Matrix2d hvu = h.bottomLeftCorner<2, 2>(), hvv = h.bottomRightCorner<2, 2>();
+      for (int l = 0; l < count; ++l) {
         const Eigen::Vector2d uu = huu * G[l], uv_l = huv * G[l], vu = hvu * G[l], vv = hvv * G[l];
         for (int k = 0; k < count; ++k) {
           const double block[4] = {G[k].dot(uu), G[k].dot(uv_l), G[k].dot(vu), G[k].dot(vv)};

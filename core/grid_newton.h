@@ -5,7 +5,9 @@
 // interior follows. The grid's Newton system P^T H P (2 unknowns per grid node) is summed face by
 // face, H never stored, and is small enough for a sparse factor: a step costs about three
 // passes over the faces, where a fine step (conjugate gradients on H) costs a multigrid setup and
-// several cycles.
+// several cycles. Its gradient P^T g is exact; in its Hessian a face across cell edges that is
+// not stiff stands as if it lay in one cell (exact_below below), which keeps the system's
+// couplings within cells.
 //
 // Steps are damped as in Levenberg-Marquardt, with a smoothness term in place of the identity:
 // damping x (the mean diagonal) x the grid's 4-neighbour graph Laplacian, per coordinate. It
@@ -36,6 +38,14 @@ struct GridNewtonSettings {
   // level off where the map still bends between its nodes.
   int finer_cells = 64;
   double finer_below = 0.005;
+  // A face across cell edges carries its Hessian exactly to its (up to 9) nodes only when it is
+  // stiff: its smaller singular value under this, the map scaled to the patch's area. The
+  // others carry it as if they lay in each corner's cell, a third to each, the bilinear weights
+  // extrapolated: the Hessian then couples only the nodes of one cell and the grid's factor
+  // fills in 3-4 times less (docs/measurements.md). Their gradient stays exact, so the step
+  // still descends; a stiff face's carry decides where the step meets the collapse cap, and an
+  // approximate one cut the steps short.
+  double exact_below = 0.5;
   double damping = 0.03;        // the first step's (see above)
   double damping_fall = 0.3;    // its factor after a full step...
   double damping_rise = 3;      // ... and after a step cut below half its length
@@ -123,6 +133,7 @@ class GridNewtonSystem {
   const GridNewtonSettings settings_;
   double damping_;
   int cells_;
+  double area_ = 0;  // the patch's 3D area
   int nx_ = 0, ny_ = 0;
   std::vector<int> active_;  // per grid node: its active number, -1 when no vertex uses it
   std::vector<Place> vertex_;

@@ -142,6 +142,8 @@ StretchMetrics layoutStretch(const Positions& V, const Triangles& F, const Layou
 
 bool hasFlippedFace(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
   const int faces = patch.real_face_count;
+  // With no face, the empty range's largest area (-inf) would read as flipped.
+  if (faces == 0) return false;
   // One pass: per fixed range (as in stretchMetrics) the total signed area and the smallest and
   // largest face's; the rule's tiny area and side follow from the total, summed in range order.
   const int slots = faceSumSlots(faces);
@@ -170,7 +172,6 @@ bool hasFlippedFace(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) 
     all.most = std::max(all.most, r.most);
     all.not_a_number |= r.not_a_number;
   }
-  if (faces == 0) return false;
   const FlipRule rule(all.total);
   // The rule's margin is monotone in the area: the face nearest the wrong side decides.
   return all.not_a_number || rule.flipped(all.least) || rule.flipped(all.most);

@@ -53,15 +53,15 @@ void parallelFor(int n, int min_chunk, Body&& body) {
     if (e) std::rethrow_exception(e);
 }
 
-// Calls body(begin, end, slot) for `slots` contiguous ranges covering [0, n), shared out between
-// the workers. The ranges depend on n and `slots` alone, never on the number of cores: partial
-// sums kept per slot and added in slot order give the same bits on any machine.
 // The slots of a pass over `n` faces whose per-slot sums are added in order: one per 16384, so
 // each is long enough to share out and the count depends on the mesh alone.
 inline int faceSumSlots(int n) {
-  return n / 16384 > 1 ? n / 16384 : 1;
+  return std::max(1, n / 16384);
 }
 
+// Calls body(begin, end, slot) for `slots` contiguous ranges covering [0, n), shared out between
+// the workers. The ranges depend on n and `slots` alone, never on the number of cores: partial
+// sums kept per slot and added in slot order give the same bits on any machine.
 template <class Body>
 void parallelForSlots(int n, int slots, Body&& body) {
   slots = std::max(slots, 1);

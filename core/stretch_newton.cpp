@@ -390,10 +390,12 @@ LocalUVs bestOf(CheckedDescent& descent, StretchNewtonCounts& counts) {
 
 double gridNewtonStepWork(int faces, int cells) {
   // The terms and products (kGridFaceWork), the collapse cap, one trial's energy and flip
-  // check (its L2 comes from the energy); and the grid's factor, about 1e7 at 32 cells whatever
-  // the patch's size and 1.2e8 at 64 (counted on face s2 and face s1): 2^3.6 per doubling.
+  // check (its L2 comes from the energy); and the grid's factor, about 3e6 at 32 cells whatever
+  // the patch's size and 3.6e7 at 64 (counted on face s1, s2 and s3, with most faces across
+  // cell edges carrying their Hessian to one cell: GridNewtonSettings::exact_below): 2^3.6 per
+  // doubling.
   return faces * (kGridFaceWork + WorkCosts::kFlipCheckFace * 2 + WorkCosts::kEnergyFace) +
-         1e7 * std::pow(cells / 32.0, 3.6);
+         3e6 * std::pow(cells / 32.0, 3.6);
 }
 
 double firstFineNewtonStepWork(int faces) {

@@ -7,6 +7,7 @@
 #include <random>
 #include <utility>
 
+#include "core/grid_newton.h"
 #include "core/parameterize.h"
 #include "core/stretch_newton.h"
 #include "core/stretch_terms.h"
@@ -227,6 +228,45 @@ TEST(StretchNewton, GridStepsUnwarpASmoothWarp) {
   EXPECT_GT(counts.grid_steps, 2);
   EXPECT_LT(metrics.l2 - 1, 0.05 * (before - 1));
   expectOneToOneWithItsMetrics(patch, result, metrics);
+}
+
+// The grid's system with the Hessian of faces across cell edges carried as if each lay in its
+// corners' cells (GridNewtonSettings::exact_below) against the exact one, on a smooth warp
+// where no face is stiff: the same gradient, so its direction still descends, and a system
+// coupled only within cells, whose factor costs less; the same at any scale of the map.
+TEST(StretchNewton, GridHessianWithinCellsDescendsAndFactorsCheaper) {
+  const test::Mesh m = test::planarGrid(60);
+  const Patch patch = buildPatch(m.V, m.F);
+  std::vector<FaceFrame> frames(patch.real_face_count);
+  for (int f = 0; f < patch.real_face_count; ++f) frames[f] = faceFrame(patch, f, 0);
+  for (const double scale : {1.0, 1e-3}) {
+    LocalUVs uv = warpedInThePlane(patch);
+    for (Eigen::Vector2d& p : uv) p *= scale;
+    const Energy energy = energyOf(patch, frames, uv);
+    double slope[2], work[2];
+    Eigen::VectorXd direction[2];
+    for (int exact = 0; exact < 2; ++exact) {
+      GridNewtonSettings settings;
+      settings.cells = 16;
+      if (exact) settings.exact_below = 1e9;  // every face stiff: the exact carry
+      GridNewtonSystem grid(patch, frames, settings);
+      direction[exact].resize(2 * patch.real_vertex_count);
+      ASSERT_TRUE(grid.solve(uv, energy, direction[exact]));
+      slope[exact] = grid.slope();
+      work[exact] = grid.lastWork();
+    }
+    EXPECT_LT(slope[0], 0) << scale;
+    EXPECT_LT(work[0], work[1]) << scale;
+    // Near the exact direction: the approximation changes the Hessian only on the cells' edges.
+    EXPECT_GT(direction[0].dot(direction[1]), 0.9 * direction[0].norm() * direction[1].norm())
+        << scale;
+    // A short step along it lowers the energy.
+    LocalUVs moved = uv;
+    const double step = 0.1;
+    for (int v = 0; v < patch.real_vertex_count; ++v)
+      moved[v] += step * direction[0].segment<2>(2 * v);
+    EXPECT_LT(energyOf(patch, frames, moved).value(), energy.value()) << scale;
+  }
 }
 
 // The projected Hessian of |J|^2 / det^2 + w det from its known eigensystem equals an
