@@ -1,6 +1,8 @@
 // The project's mesh readers (the io/ library) against vcglib's importers, the code MeshLab itself
-// reads OFF, OBJ and PLY with (tri::io::ImporterOFF/OBJ/PLY of MeshLab 2025.07's vcglib), on
-// speed and on bad input. bench/readers.py drives it.
+// reads OFF, OBJ, PLY (tristrips too) and STL with (tri::io::ImporterOFF/OBJ/PLY/STL of MeshLab
+// 2025.07's vcglib; for STL followed by Clean::RemoveDuplicateVertex, as MeshLab's STL import
+// with its default "Unify Duplicated Vertices"), on speed and on bad input. bench/readers.py
+// drives it.
 //   sdp_reader_bench time FILE...        per file: best of 3 reads with each, seconds
 //   sdp_reader_bench read ours|vcglib FILE
 //       one read; prints "accepted V F", "accepted-invalid V F <why>" (a face index out of range
@@ -11,10 +13,12 @@
 #include <cstring>
 #include <string>
 
+#include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/import_obj.h>
 #include <wrap/io_trimesh/import_off.h>
 #include <wrap/io_trimesh/import_ply.h>
+#include <wrap/io_trimesh/import_stl.h>
 
 #include "best_of_three.h"
 #include "io/mesh_io.h"
@@ -79,6 +83,17 @@ Outcome readVcg(const std::string& path) {
     code = io::ImporterPLY<BenchMesh>::Open(mesh, path.c_str(), mask);
     critical = io::ImporterPLY<BenchMesh>::ErrorCritical(code);
     message = io::ImporterPLY<BenchMesh>::ErrorMsg(code);
+    // Tristrips' degenerate joins stay in vcglib's mesh; MeshLab's loader then drops them.
+    if (!critical && vcg::tri::Clean<BenchMesh>::RemoveDegenerateFace(mesh) > 0)
+      vcg::tri::Allocator<BenchMesh>::CompactEveryVector(mesh);
+  } else if (ext == "stl") {
+    code = io::ImporterSTL<BenchMesh>::Open(mesh, path.c_str(), mask);
+    critical = code != 0;  // ImporterSTL: 0 is success
+    message = io::ImporterSTL<BenchMesh>::ErrorMsg(code);
+    if (!critical) {
+      vcg::tri::Clean<BenchMesh>::RemoveDuplicateVertex(mesh);
+      vcg::tri::Allocator<BenchMesh>::CompactEveryVector(mesh);
+    }
   } else {
     out.problem = "unknown extension";
     return out;

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Our mesh readers (cli/mesh_io) against vcglib's importers (what MeshLab reads with), measured:
 
-  speed     the 1.65M-vertex mesh (face.off, 3 midpoint subdivisions) as OFF, OBJ and binary PLY:
-            best of 3 reads with each, in one process (sdp_reader_bench time)
+  speed     the 1.65M-vertex mesh (face.off, 3 midpoint subdivisions) as OFF, OBJ, binary PLY,
+            binary and ASCII STL and binary PLY tristrips: best of 3 reads with each, in one
+            process (sdp_reader_bench time; vcglib's STL welded and its tristrips' degenerate
+            joins dropped, as MeshLab's loader does)
   bad input damaged copies of nefertiti in each format (truncations, byte flips, huge counts,
             out-of-range and negative indices, nan/inf coordinates; a fixed seed, so every run
             tries the same files) plus the bad-input meshes of resources/meshes/invalid: each file
@@ -17,6 +19,7 @@ Writes bench/results/readers.md and, with --readme, the README's bench:readers b
   .venv/bin/python bench/readers.py --build build [--readme README.md]"""
 import argparse
 import collections
+import importlib.util
 import pathlib
 import random
 import re
@@ -41,8 +44,24 @@ def read_off(path):
     return V, rest[:, 1:]
 
 
-def write_formats(V, F, stem):
-    """stem.off, stem.obj (ascii) and stem.ply (binary little-endian)."""
+def input_meshes():
+    """scripts/make-input-meshes.py as a module: its STL writers and tristrip maker."""
+    spec = importlib.util.spec_from_file_location("make_input_meshes",
+                                                  REPO / "scripts" / "make-input-meshes.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def write_formats(V, F, stem, reuse=False):
+    """stem.off, stem.obj (ascii), stem.ply (binary little-endian), and, as scanners and CAD
+    tools write them, stem_binary.stl, stem_ascii.stl and stem_strips.ply (tristrips). With
+    `reuse`, files a run already wrote (same mesh, same writers) are kept."""
+    names = {"off": ".off", "obj": ".obj", "ply": ".ply", "stl": "_binary.stl",
+             "stl ascii": "_ascii.stl", "ply tristrips": "_strips.ply"}
+    kept = {fmt: stem.with_name(stem.name + suffix) for fmt, suffix in names.items()}
+    if reuse and all(path.exists() for path in kept.values()):
+        return kept
     paths = {}
     off = stem.with_suffix(".off")
     with open(off, "w") as f:
@@ -67,6 +86,14 @@ def write_formats(V, F, stem):
         faces["i"] = F
         f.write(faces.tobytes())
     paths["ply"] = ply
+    maker = input_meshes()
+    Vl, Fl = [tuple(v) for v in V.tolist()], F.tolist()
+    paths["stl"] = stem.with_name(stem.name + "_binary.stl")
+    maker.write_stl_binary(paths["stl"], Vl, Fl)
+    paths["stl ascii"] = stem.with_name(stem.name + "_ascii.stl")
+    maker.write_stl_ascii(paths["stl ascii"], Vl, Fl, stem.name)
+    paths["ply tristrips"] = stem.with_name(stem.name + "_strips.ply")
+    maker.write_ply_tristrips(paths["ply tristrips"], Vl, Fl)
     return paths
 
 
@@ -75,7 +102,7 @@ def damaged(paths, folder, rng):
     cases = []
     for fmt, path in paths.items():
         data = path.read_bytes()
-        header_end = data.find(b"end_header\n") + 11 if fmt == "ply" else 0
+        header_end = data.find(b"end_header\n") + 11 if fmt.startswith("ply") else 0
         for k in range(12):  # truncations
             cut = rng.randrange(1, len(data))
             cases.append((fmt, f"truncated{k}", data[:cut]))
@@ -84,7 +111,32 @@ def damaged(paths, folder, rng):
             for _ in range(rng.randint(1, 8)):
                 b[rng.randrange(len(b))] = rng.randrange(256)
             cases.append((fmt, f"flipped{k}", bytes(b)))
-        if fmt == "ply":
+        if fmt == "stl":
+            for k, count in enumerate([2 ** 32 - 1, 561, 600]):  # the triangle count
+                b = bytearray(data)
+                b[80:84] = struct.pack("<I", count)
+                cases.append((fmt, f"count{k}", bytes(b)))
+            for k, value in enumerate([float("nan"), float("inf")]):
+                b = bytearray(data)
+                b[84 + 12:84 + 16] = struct.pack("<f", value)
+                cases.append((fmt, f"coordinate{k}", bytes(b)))
+        elif fmt == "stl ascii":
+            text = data.decode()
+            for k, (old, new) in enumerate([("endfacet", "endfct"), ("outer loop", "outer"),
+                                            ("vertex ", "vertex nan "), ("vertex ", "vertex 1e999 "),
+                                            ("endloop", "vertex 0 0 0\nendloop")]):
+                cases.append((fmt, f"edit{k}", text.replace(old, new, 1).encode()))
+        elif fmt == "ply tristrips":
+            body = bytearray(data)
+            offset = header_end + 299 * 12 + 4  # the strip's first index
+            for k, index in enumerate([299, -2, 2 ** 31 - 1]):
+                b = bytearray(body)
+                b[offset:offset + 4] = struct.pack("<i", index)
+                cases.append((fmt, f"index{k}", bytes(b)))
+            b = bytearray(body)
+            b[offset - 4:offset] = struct.pack("<i", 2 ** 31 - 1)  # the strip's length
+            cases.append((fmt, "length", bytes(b)))
+        elif fmt == "ply":
             text = data[:header_end].decode()
             for k, (old, new) in enumerate([("element vertex 299", "element vertex 2000000000"),
                                             ("element face", "element face 4000000000 #"),
@@ -163,14 +215,14 @@ def main():
     if not big.exists():
         subprocess.run([bin_dir / "sdp_bench", face, "3", "--write-off", big], check=True)
     V, F = read_off(big)
-    big_paths = write_formats(V, F, CACHE / "face_s3_io")
-    timing = subprocess.run([reader_bench, "time"] + [big_paths[f] for f in ("off", "obj", "ply")],
+    big_paths = write_formats(V, F, CACHE / "face_s3_io", reuse=True)
+    formats = list(big_paths)
+    timing = subprocess.run([reader_bench, "time"] + [big_paths[f] for f in formats],
                             capture_output=True, text=True, check=True).stdout
     speed = []
-    for line in timing.splitlines():
+    for fmt, line in zip(formats, timing.splitlines()):
         m = re.match(r"(\S+) ours ([\d.]+) s \((\d+) v, (\d+) f.*?\) vcglib ([\d.]+) s \((\d+) v, "
                      r"(\d+) f", line)
-        fmt = pathlib.Path(m.group(1)).suffix[1:]
         ours, vcg = float(m.group(2)), float(m.group(5))
         same = m.group(3) == m.group(6) and m.group(4) == m.group(7)
         speed.append(f"| {fmt.upper()} | {ours:.2f} | {vcg:.2f} | {vcg / ours:.1f}× | "
@@ -187,7 +239,7 @@ def main():
     examples = {r: [] for r in counts}
     per_format = collections.Counter()
     for i, (fmt, name, data) in enumerate(cases):
-        path = work / f"case{i}.{fmt}"
+        path = work / f"case{i}.{fmt.split()[0]}"
         path.write_bytes(data)
         per_format[fmt] += 1
         for reader in counts:

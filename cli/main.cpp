@@ -86,7 +86,8 @@ std::string usage() {
   std::string text = R"(usage: straightest_param IN OUT [options]
 
 Flattens a disk-shaped triangle patch to the plane by straightest distances.
-IN is a .off, .obj or .ply mesh (polygons are fan-triangulated). OUT ending in .obj gets
+IN is a .off, .obj, .ply or .stl mesh (polygons and PLY tristrips are triangulated, STL
+corners welded where their coordinates are equal). OUT ending in .obj gets
 OBJ + MTL + a checkerboard PNG <stem>_checker.png next to it; .ply gets a binary PLY.
 Both carry per-wedge texture coordinates. The report (JSON) is printed to stdout.
 
@@ -229,7 +230,7 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
   args.input = positional[0];
   args.output = positional[1];
   if (!sdp::io::isReadableMeshPath(args.input)) {
-    throw UsageError("IN must be a .off, .obj or .ply file: " + args.input);
+    throw UsageError("IN must be a .off, .obj, .ply or .stl file: " + args.input);
   }
   const std::string out_ext = lowercaseExtension(args.output);
   if (out_ext != ".obj" && out_ext != ".ply") {
@@ -291,10 +292,11 @@ int runAtlas(const Arguments& args, const sdp::io::MeshData& mesh) {
   options.storage =
       lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
   sdp::atlas::AtlasResult result = sdp::atlas::makeAtlas(mesh.V, mesh.F, options);
+  std::vector<std::string>& notes = result.report.notes;
+  notes.insert(notes.begin(), mesh.notes.begin(), mesh.notes.end());
   if (mesh.polygons_triangulated > 0)
-    result.report.notes.insert(result.report.notes.begin(),
-                               std::to_string(mesh.polygons_triangulated) +
-                                   " polygons with more than 3 vertices were fan-triangulated");
+    notes.insert(notes.begin(), std::to_string(mesh.polygons_triangulated) +
+                                    " polygons with more than 3 vertices were fan-triangulated");
   writeOutputs(args, mesh, result.layout, result.report.toJson(), result.report.warnings);
   return 0;
 }
@@ -312,6 +314,7 @@ int run(const Arguments& args) {
       lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
   sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
   sdp::Report& report = result.report;
+  report.notes.insert(report.notes.begin(), mesh.notes.begin(), mesh.notes.end());
   if (mesh.polygons_triangulated > 0) {
     report.warnings.insert(report.warnings.begin(),
                            std::to_string(mesh.polygons_triangulated) +

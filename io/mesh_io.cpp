@@ -1,5 +1,5 @@
 // The library's entry points: reading by extension, and plain text files. The formats are in
-// io/off.cpp, io/obj.cpp, io/ply.cpp and io/png.cpp.
+// io/off.cpp, io/obj.cpp, io/ply.cpp, io/stl.cpp and io/png.cpp.
 #include "io/mesh_io.h"
 
 #include <cerrno>
@@ -22,7 +22,8 @@ MeshData parseMesh(std::string_view bytes, const std::string& format, const std:
   if (format == "off") return detail::parseOff(bytes, name);
   if (format == "obj") return detail::parseObj(bytes, name);
   if (format == "ply") return detail::parsePly(bytes, name);
-  fail(name, "unsupported mesh format '" + format + "' (expected .off, .obj or .ply)");
+  if (format == "stl") return detail::parseStl(bytes, name);
+  fail(name, "unsupported mesh format '" + format + "' (expected .off, .obj, .ply or .stl)");
 }
 
 std::string extensionOf(const std::string& path) {
@@ -35,13 +36,13 @@ std::string extensionOf(const std::string& path) {
 
 bool isReadableMeshPath(const std::string& path) {
   const std::string ext = extensionOf(path);
-  return ext == "off" || ext == "obj" || ext == "ply";
+  return ext == "off" || ext == "obj" || ext == "ply" || ext == "stl";
 }
 
 MeshData readMesh(const std::string& path) {
   const std::string name = detail::fileNameOf(path);
   if (!isReadableMeshPath(path)) {
-    fail(name, "unsupported mesh format (expected .off, .obj or .ply)");
+    fail(name, "unsupported mesh format (expected .off, .obj, .ply or .stl)");
   }
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);

@@ -1,6 +1,7 @@
-// Mesh files, for the command line tool, the tests, the fuzzer and the bench: OFF, OBJ and PLY
-// in (with per-corner texture coordinates where the file has them), OBJ+MTL+PNG or PLY out. One
-// file per format (io/off.cpp, obj.cpp, ply.cpp, png.cpp); io/checkerboard.h is the texture.
+// Mesh files, for the command line tool, the tests, the fuzzer and the bench: OFF, OBJ, PLY
+// (faces or tristrips) and STL (binary or ASCII, corners welded) in, with per-corner texture
+// coordinates where the file has them; OBJ+MTL+PNG or PLY out. One file per format
+// (io/off.cpp, obj.cpp, ply.cpp, stl.cpp, png.cpp); io/checkerboard.h is the texture.
 // Readers take untrusted bytes (a fuzzer drives them): every problem is a ParameterizationError
 // with a one-line reason naming the file, never a crash, a hang or an allocation larger than the
 // input justifies. Writers replace their target atomically (temporary file + rename).
@@ -17,6 +18,9 @@ struct MeshData {
   sdp::Positions V;
   sdp::Triangles F;
   int polygons_triangulated = 0;  // input faces with more than 3 corners, fan-triangulated
+  // What else the reader changed on the way in, one sentence each (STL corners welded into
+  // degenerate triangles, PLY tristrips' degenerate joins), for the report's notes.
+  std::vector<std::string> notes;
   // The file's texture coordinates, per triangle corner: texcoords.uv #U×2 and
   // texcoords.face_uv #F×3 (row of uv, -1 at a corner the file gives none), as another tool
   // stored them, seams included. From OBJ `vt` and `f v/vt`, PLY face `texcoord` lists (u0 v0
@@ -26,11 +30,11 @@ struct MeshData {
   int faces_without_texcoords = 0;  // faces with a corner at -1, when texcoords is not empty
 };
 
-// Dispatches on the extension (.off, .obj, .ply, any letter case). The reason of an error starts
-// with the file name, e.g. "truncated.off: file ends after 66 of 299 vertices".
+// Dispatches on the extension (.off, .obj, .ply, .stl, any letter case). The reason of an error
+// starts with the file name, e.g. "truncated.off: file ends after 66 of 299 vertices".
 MeshData readMesh(const std::string& path);
 
-// `format` is "off", "obj" or "ply" (any case, a leading dot allowed).
+// `format` is "off", "obj", "ply" or "stl" (any case, a leading dot allowed).
 MeshData readMeshFromMemory(const std::string& bytes, const std::string& format);
 
 // True when readMesh knows the extension of `path`.

@@ -1,5 +1,6 @@
-// PLY in (ASCII and binary; positions, polygons, per-corner `texcoord` lists or per-vertex
-// texture coordinates) and out (binary, MeshLab's per-wedge texture coordinates, charts).
+// PLY in (ASCII and binary; positions, polygons or tristrips, per-corner `texcoord` lists or
+// per-vertex texture coordinates) and out (binary, MeshLab's per-wedge texture coordinates,
+// charts).
 #include <charconv>
 #include <climits>
 #include <cmath>
@@ -299,6 +300,41 @@ void addPlyFace(MeshBuilder& mesh, const std::vector<int>& vertices, const std::
   mesh.endPolygon();
 }
 
+// Stanford's tristrips: a strip's k-th triangle is (s[k], s[k+1], s[k+2]), its first two corners
+// swapped when k is odd so every triangle keeps the strip's winding; -1 restarts a strip.
+// Triangles with a repeated corner are the joins strippers use between strips: dropped, counted.
+class StripTriangulator {
+ public:
+  // With per-vertex texture coordinates, a corner's texture coordinate row is its vertex.
+  StripTriangulator(MeshBuilder& mesh, bool vertex_uvs) : mesh_(mesh), vertex_uvs_(vertex_uvs) {}
+
+  void restart() { run_ = 0; }
+  void add(int vertex) {
+    window_[run_ % 3] = vertex;
+    ++run_;
+    if (run_ < 3) return;
+    const long long k = run_ - 3;  // the triangle's index within the strip
+    int a = window_[k % 3], b = window_[(k + 1) % 3];
+    const int c = window_[(k + 2) % 3];
+    if (k % 2 == 1) std::swap(a, b);
+    if (a == b || b == c || a == c) {
+      ++degenerate_;
+      return;
+    }
+    mesh_.beginPolygon();
+    for (int v : {a, b, c}) mesh_.addCorner(v, vertex_uvs_ ? v : -1);
+    mesh_.endPolygon();
+  }
+  long long degenerate() const { return degenerate_; }
+
+ private:
+  MeshBuilder& mesh_;
+  bool vertex_uvs_;
+  int window_[3] = {0, 0, 0};
+  long long run_ = 0;
+  long long degenerate_ = 0;
+};
+
 }  // namespace
 
 MeshData parsePly(std::string_view text, const std::string& name) {
@@ -307,16 +343,23 @@ MeshData parsePly(std::string_view text, const std::string& name) {
 
   const PlyElement* vertex_element = nullptr;
   const PlyElement* face_element = nullptr;
+  const PlyElement* strip_element = nullptr;  // laser scans' `tristrips`, read beside faces
   for (const PlyElement& element : header.elements) {
-    const PlyElement** slot = element.name == "vertex" ? &vertex_element
-                              : element.name == "face" ? &face_element
-                                                       : nullptr;
+    const PlyElement** slot = element.name == "vertex"      ? &vertex_element
+                              : element.name == "face"      ? &face_element
+                              : element.name == "tristrips" ? &strip_element
+                                                            : nullptr;
     if (slot == nullptr) continue;
     if (*slot != nullptr) fail(name, "header declares two '" + element.name + "' elements");
     *slot = &element;
   }
   if (vertex_element == nullptr) fail(name, "header declares no vertex element");
-  if (face_element == nullptr || face_element->count == 0) fail(name, "contains no faces");
+  const bool has_faces = face_element != nullptr && face_element->count > 0;
+  const bool has_strips = strip_element != nullptr && strip_element->count > 0;
+  if (!has_faces && !has_strips) fail(name, "contains no faces");
+  const int strip_property =
+      has_strips ? listProperty(*strip_element, {"vertex_indices", "vertex_index"}) : -1;
+  if (has_strips && strip_property < 0) fail(name, "tristrips element has no vertex_indices list");
 
   int axis_property[3];
   for (int axis = 0; axis < 3; ++axis) {
@@ -327,12 +370,13 @@ MeshData parsePly(std::string_view text, const std::string& name) {
            std::string("vertex element has no scalar property ") + static_cast<char>('x' + axis));
     }
   }
-  const int index_property = listProperty(*face_element, {"vertex_indices", "vertex_index"});
-  if (index_property < 0) fail(name, "face element has no vertex_indices list");
+  const int index_property =
+      has_faces ? listProperty(*face_element, {"vertex_indices", "vertex_index"}) : -1;
+  if (has_faces && index_property < 0) fail(name, "face element has no vertex_indices list");
   // Texture coordinates: per corner in a face list `texcoord` (u0 v0 u1 v1 ..., as MeshLab
   // writes its wedge texture coordinates), else per vertex in scalar pairs (s t, u v,
   // texture_u texture_v).
-  const int texcoord_property = listProperty(*face_element, {"texcoord"});
+  const int texcoord_property = has_faces ? listProperty(*face_element, {"texcoord"}) : -1;
   int vertex_uv_property[2] = {-1, -1};
   for (const auto& [u_name, v_name] :
        {std::pair<const char*, const char*>{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}}) {
@@ -355,14 +399,16 @@ MeshData parsePly(std::string_view text, const std::string& name) {
         static_cast<unsigned long long>(element.count), body.size() / record + 1));
   };
   mesh.reserveVertices(reserveFor(*vertex_element));
-  mesh.reserveTriangles(reserveFor(*face_element));
+  if (has_faces) mesh.reserveTriangles(reserveFor(*face_element));
   PlyValueSource source(body, header, name);
+  StripTriangulator strips(mesh, vertex_uvs);
   std::vector<int> corner_vertices;  // the current face's, in its record
   std::vector<double> corner_uvs;
   for (const PlyElement& element : header.elements) {
     if (element.properties.empty()) continue;
     const bool is_vertex = &element == vertex_element;
     const bool is_face = &element == face_element;
+    const bool is_strip = &element == strip_element;
     for (long long r = 0; r < element.count; ++r) {
       const auto truncated = [&] {
         fail(name, "file ends after " + std::to_string(r) + " of " + std::to_string(element.count) +
@@ -401,6 +447,24 @@ MeshData parsePly(std::string_view text, const std::string& name) {
           }
           continue;
         }
+        if (is_strip && p == strip_property) {
+          strips.restart();
+          for (unsigned long long c = 0; c < item_count; ++c) {
+            if (!source.read(property.type, value)) truncated();
+            if (value == -1) {
+              strips.restart();
+              continue;
+            }
+            if (!isIntegral(value) || value < 0 || value >= static_cast<double>(vertex_count) ||
+                value > INT_MAX) {
+              fail(name, "tristrip " + std::to_string(r) + " refers to vertex " +
+                             numberText(value) + ", but there are " + std::to_string(vertex_count) +
+                             " vertices");
+            }
+            strips.add(static_cast<int>(value));
+          }
+          continue;
+        }
         if (!(is_face && p == index_property)) {
           if (!source.skip(property.type, item_count)) truncated();
           continue;
@@ -426,7 +490,12 @@ MeshData parsePly(std::string_view text, const std::string& name) {
       if (is_face) addPlyFace(mesh, corner_vertices, corner_uvs, vertex_uvs);
     }
   }
-  return mesh.build(name);
+  MeshData data = mesh.build(name);
+  if (strips.degenerate() > 0) {
+    data.notes.push_back(std::to_string(strips.degenerate()) +
+                         " degenerate tristrip triangles (the joins between strips) were dropped");
+  }
+  return data;
 }
 
 }  // namespace detail

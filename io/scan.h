@@ -183,9 +183,11 @@ class MeshBuilder {
   int polygons_triangulated_ = 0;
 };
 
-// The readers of each format (io/off.cpp, io/obj.cpp, io/ply.cpp); `name` starts every reason.
+// The readers of each format (io/off.cpp, io/obj.cpp, io/ply.cpp, io/stl.cpp); `name` starts every
+// reason.
 MeshData parseOff(std::string_view text, const std::string& name);
 MeshData parseObj(std::string_view text, const std::string& name);
 MeshData parsePly(std::string_view text, const std::string& name);
+MeshData parseStl(std::string_view bytes, const std::string& name);
 
 }  // namespace sdp::io::detail

@@ -7,7 +7,9 @@
 #   bash scripts/fuzz.sh --seconds 3600 [--seed N]   a longer run from a random seed (or N) that
 #                                   keeps its corpus in build-fuzz/corpus between runs: finds new
 #                                   inputs (documented in the README).
-# Seeds: the test meshes (resources/meshes, plus SDP_SHARED_DIR's when there) and tests/fuzz/regressions (inputs that once failed, kept forever).
+# Seeds: the test meshes (resources/meshes, plus SDP_SHARED_DIR's when there; STL and tristrip
+# PLY from resources/meshes/inputs) and tests/fuzz/regressions (inputs that once failed, kept
+# forever).
 # New findings land in build-fuzz/findings/; the run fails if there is one.
 set -euo pipefail
 repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -58,6 +60,13 @@ for mesh in "$bundled"/closed/*.off "$bundled"/invalid/*.off "$shared_dir"/meshe
   [[ -f "$mesh" ]] || continue
   seed="$corpus/atlas_seed_$(basename "$mesh")"
   [[ -f "$seed" ]] || { printf '\x00\x00\x02\x80' > "$seed"; cat "$mesh" >> "$seed"; }
+done
+
+# STL (format byte 3, binary and ASCII) and PLY tristrips (format byte 2), through the atlas.
+for entry in "03 torus_binary.stl" "03 torus_ascii.stl" "02 torus_tristrips.ply"; do
+  mesh="$bundled/inputs/${entry#* }"
+  seed="$corpus/atlas_seed_${entry#* }"
+  [[ -f "$seed" ]] || { printf "\\x${entry%% *}\\x00\\x02\\x80" > "$seed"; cat "$mesh" >> "$seed"; }
 done
 
 echo "fuzz: replaying $(ls tests/fuzz/regressions | wc -l) regression inputs"

@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -538,17 +539,154 @@ TEST_F(TempDirTest, ReadMeshDispatchesOnTheExtensionInAnyCase) {
   EXPECT_EQ(sdp::io::readMesh((dir_ / "Nefertiti.OFF").string()).V.rows(), 299);
   std::ofstream(dir_ / "tri.Obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   EXPECT_EQ(sdp::io::readMesh((dir_ / "tri.Obj").string()).F.rows(), 1);
-  std::ofstream(dir_ / "tri.stl") << "solid\n";
-  expectError([&] { sdp::io::readMesh((dir_ / "tri.stl").string()); },
-              {"tri.stl", "unsupported mesh format"});
+  std::ofstream(dir_ / "tri.STL") << "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                     "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+  EXPECT_EQ(sdp::io::readMesh((dir_ / "tri.STL").string()).F.rows(), 1);
+  std::ofstream(dir_ / "tri.3ds") << "x";
+  expectError([&] { sdp::io::readMesh((dir_ / "tri.3ds").string()); },
+              {"tri.3ds", "unsupported mesh format", ".stl"});
   const std::string missing = (dir_ / "missing.off").string();
   expectError([&] { sdp::io::readMesh(missing); }, {missing, "cannot open"});
   fs::create_directory(dir_ / "folder.off");
   expectError([&] { sdp::io::readMesh((dir_ / "folder.off").string()); }, {"not a regular file"});
-  expectError([] { readMeshFromMemory("", "stl"); }, {"unsupported mesh format 'stl'"});
+  expectError([] { readMeshFromMemory("", "3ds"); }, {"unsupported mesh format '3ds'"});
   EXPECT_EQ(readMeshFromMemory(kSquareAndQuadOff, ".OFF").F.rows(), 4);
   EXPECT_TRUE(sdp::io::isReadableMeshPath("a/b.PLY"));
   EXPECT_FALSE(sdp::io::isReadableMeshPath("a/b.ply.gz"));
+}
+
+// ------------------------------------------------------------------------------------------
+// STL and PLY tristrips
+
+// Binary STL of `triangles` (each 9 floats), with `header` as the 80-byte header's start.
+std::string binaryStl(const std::vector<std::array<float, 9>>& triangles,
+                      const std::string& header = "binary") {
+  std::string bytes = header;
+  bytes.resize(80, ' ');
+  const uint32_t count = static_cast<uint32_t>(triangles.size());
+  bytes.append(reinterpret_cast<const char*>(&count), 4);  // the test machine is little-endian
+  for (const auto& t : triangles) {
+    const float normal[3] = {0, 0, 1};
+    bytes.append(reinterpret_cast<const char*>(normal), 12);
+    bytes.append(reinterpret_cast<const char*>(t.data()), 36);
+    bytes.append(2, '\0');
+  }
+  return bytes;
+}
+
+TEST(StlReader, WeldsEqualCornersInBinaryEvenWithSolidInTheHeader) {
+  // Two triangles of a square sharing the diagonal; -0 welds with +0; the header says "solid".
+  const std::vector<std::array<float, 9>> square = {{0, 0, 0, 1, 0, 0, 1, 1, 0},
+                                                    {-0.0f, 0, 0, 1, 1, 0, 0, 1, 0}};
+  for (const std::string& header : {std::string("binary"), std::string("solid square")}) {
+    const MeshData mesh = readMeshFromMemory(binaryStl(square, header), "stl");
+    ASSERT_EQ(mesh.V.rows(), 4) << header;
+    ASSERT_EQ(mesh.F.rows(), 2);
+    EXPECT_EQ(faceRow(mesh, 0), (std::vector<int>{0, 1, 2}));
+    EXPECT_EQ(faceRow(mesh, 1), (std::vector<int>{0, 2, 3}));
+    EXPECT_TRUE(mesh.notes.empty());
+  }
+}
+
+TEST(StlReader, ReadsAsciiWithSeveralSolidsAndDropsWeldedTriangles) {
+  const std::string text =
+      "solid a b\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
+      "   vertex 1 1 0\n  endloop\n endfacet\nendsolid a b\nsolid\nfacet normal 0 0 1\nouter "
+      "loop\nvertex 0 0 0\nvertex 1.0 1 0\nvertex 0 1 0\nendloop\nendfacet\n"
+      "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 0\nvertex 0 1 0\nendloop\n"
+      "endfacet\nendsolid\n";
+  const MeshData mesh = readMeshFromMemory(text, "stl");
+  ASSERT_EQ(mesh.V.rows(), 4);
+  ASSERT_EQ(mesh.F.rows(), 2);
+  EXPECT_EQ(faceRow(mesh, 1), (std::vector<int>{0, 2, 3}));
+  ASSERT_EQ(mesh.notes.size(), 1u);
+  EXPECT_NE(mesh.notes[0].find("1 STL triangles with two equal corners"), std::string::npos);
+}
+
+TEST(StlReader, AsciiAndBinaryOfTheBundledTorusAreTheSameMesh) {
+  const MeshData binary = sdp::io::readMesh((kMeshes / "inputs" / "torus_binary.stl").string());
+  const MeshData ascii = sdp::io::readMesh((kMeshes / "inputs" / "torus_ascii.stl").string());
+  const MeshData off = sdp::io::readMesh((kMeshes / "closed" / "torus.off").string());
+  // Welded back to the torus's vertices (numbered by first use), the faces in file order.
+  EXPECT_EQ(binary.V.rows(), off.V.rows());
+  ASSERT_EQ(binary.F.rows(), off.F.rows());
+  double largest_gap = 0;
+  for (Eigen::Index f = 0; f < off.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      largest_gap =
+          std::max(largest_gap,
+                   (binary.V.row(binary.F(f, k)) - off.V.row(off.F(f, k))).cwiseAbs().maxCoeff());
+  EXPECT_LT(largest_gap, 1e-6);  // float coordinates
+  EXPECT_EQ(ascii.F, binary.F);
+  EXPECT_EQ(ascii.V, binary.V);  // the ASCII file holds the same floats as decimals
+}
+
+TEST(StlReader, NamesTruncationAndBadTokens) {
+  const std::string full = binaryStl({{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 0, 0, 0, 1, 0, 0, 0, 1}});
+  // One byte short: not the size its count says, and not "solid": read as binary, truncated.
+  expectError([&] { readMeshFromMemory(full.substr(0, full.size() - 1), "stl"); },
+              {"file ends after 1 of 2 triangles"});
+  expectError([&] { readMeshFromMemory(full.substr(0, 40), "stl"); }, {"84-byte header"});
+  expectError([] { readMeshFromMemory("", "stl"); }, {"file is empty"});
+  expectError([] { readMeshFromMemory(binaryStl({}), "stl"); }, {"contains no faces"});
+  expectError([] { readMeshFromMemory("solid\nfacet\nouter loop\nvertex 0 0 x\n", "stl"); },
+              {"line 4", "cannot read 'x'"});
+  expectError([] { readMeshFromMemory("solid\nfacet\nouter loop\nvertex 0 0 0\n", "stl"); },
+              {"file ends inside facet 0"});
+  expectError([] { readMeshFromMemory("solid\nvertex 0 0 0\n", "stl"); }, {"outside a facet"});
+  expectError([] { readMeshFromMemory("solid\nfacet\nvertex 0 0 0\nendfacet\n", "stl"); },
+              {"facet 0 has 1 vertices"});
+  expectError([] { readMeshFromMemory("solid\nbanana\n", "stl"); }, {"line 2", "'banana'"});
+}
+
+TEST(PlyReader, ReadsTristripsWithRestartsAndAlternatingWinding) {
+  // A strip over a 2 x 1 grid of squares (0..5, bottom row 0 1 2, top row 3 4 5): 0 3 1 4 2 5
+  // gives (0,3,1), (1,3,4)... every triangle wound the same way; -1 restarts; the join
+  // 5 5 is degenerate and dropped.
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+      "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+      "end_header\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n"
+      "9 0 1 3 4 -1 1 2 4 5\n";
+  const MeshData mesh = readMeshFromMemory(ply, "ply");
+  ASSERT_EQ(mesh.F.rows(), 4);
+  EXPECT_EQ(faceRow(mesh, 0), (std::vector<int>{0, 1, 3}));
+  EXPECT_EQ(faceRow(mesh, 1), (std::vector<int>{3, 1, 4}));
+  EXPECT_EQ(faceRow(mesh, 2), (std::vector<int>{1, 2, 4}));
+  EXPECT_EQ(faceRow(mesh, 3), (std::vector<int>{4, 2, 5}));
+  EXPECT_TRUE(mesh.notes.empty());
+  // The same strips joined by repeated vertices instead of -1: the same triangles, and the
+  // degenerate joins counted.
+  std::string joined = ply;
+  joined.replace(joined.find("9 0 1 3 4 -1 1 2 4 5"), 20, "10 0 1 3 4 4 1 1 2 4 5");
+  const MeshData bridged = readMeshFromMemory(joined, "ply");
+  ASSERT_EQ(bridged.F.rows(), 4);
+  EXPECT_EQ(bridged.F, mesh.F);
+  ASSERT_EQ(bridged.notes.size(), 1u);
+  EXPECT_NE(bridged.notes[0].find("4 degenerate tristrip triangles"), std::string::npos);
+  // A bad index is named with its strip.
+  std::string bad = ply;
+  bad.replace(bad.find("9 0 1 3 4 -1"), 12, "9 0 1 3 9 -1");
+  expectError([&] { readMeshFromMemory(bad, "ply"); }, {"tristrip 0 refers to vertex 9"});
+}
+
+TEST(PlyReader, TristripsOfTheBundledTorusGiveBackItsTriangles) {
+  const MeshData strips = sdp::io::readMesh((kMeshes / "inputs" / "torus_tristrips.ply").string());
+  const MeshData off = sdp::io::readMesh((kMeshes / "closed" / "torus.off").string());
+  ASSERT_EQ(strips.F.rows(), off.F.rows());
+  // The same triangles, each with the same winding (as rotations of its corners), in strip order.
+  auto canonical = [](const MeshData& m) {
+    std::vector<std::array<int, 3>> faces;
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      std::array<int, 3> t = {m.F(f, 0), m.F(f, 1), m.F(f, 2)};
+      std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      faces.push_back(t);
+    }
+    std::sort(faces.begin(), faces.end());
+    return faces;
+  };
+  EXPECT_EQ(canonical(strips), canonical(off));
+  ASSERT_EQ(strips.notes.size(), 1u);  // the generator joins some strips by repeated vertices
 }
 
 // ------------------------------------------------------------------------------------------

@@ -3,9 +3,9 @@
 // one-line ParameterizationError, multi-line reason, or a returned map with a folded face is a
 // finding.
 //
-// Input layout: byte 0 picks the format (off, obj, ply), byte 1 the weights, byte 2 the boundary,
-// byte 3 the refinement steps (0-2); the rest is the file. With bit 7 of byte 3 set, the file
-// goes through the atlas instead (byte 1 picks a small texture size, byte 2 the gutter, bit 6
+// Input layout: byte 0 picks the format (off, obj, ply, stl), byte 1 the weights, byte 2 the
+// boundary, byte 3 the refinement steps (0-2); the rest is the file. With bit 7 of byte 3 set, the
+// file goes through the atlas instead (byte 1 picks a small texture size, byte 2 the gutter, bit 6
 // refines the charts), and a stored atlas with a flipped face, a face without a chart, a UV
 // outside [0,1]^2, pixels covered twice or a broken gutter is a finding.
 #include <cstdint>
@@ -34,8 +34,8 @@ double uvArea(const sdp::UVs& uv, const sdp::Triangles& F, int f) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 4) return 0;
-  static const char* const kFormats[] = {"off", "obj", "ply"};
-  const std::string format = kFormats[data[0] % 3];
+  static const char* const kFormats[] = {"off", "obj", "ply", "stl"};
+  const std::string format = kFormats[data[0] % 4];
   sdp::Options options;
   options.weights = static_cast<sdp::WeightScheme>(data[1] % sdp::kWeightSchemeCount);
   options.boundary = static_cast<sdp::BoundaryShape>(data[2] % sdp::kBoundaryShapeCount);
