@@ -195,4 +195,32 @@ Connectivity analyzeConnectivity(const Triangles& F, int vertex_count) {
   return ConnectivityAnalysis(F, vertex_count).run();
 }
 
+std::vector<char> coherentOrientation(const Triangles& F, const Connectivity& connectivity) {
+  const int faces = static_cast<int>(F.rows());
+  std::vector<char> turn(faces, 0), seen(faces, 0);
+  std::vector<int> piece;
+  for (int start = 0; start < faces; ++start) {
+    if (seen[start]) continue;
+    piece.assign(1, start);
+    seen[start] = 1;
+    int turned = 0;
+    for (size_t i = 0; i < piece.size(); ++i) {
+      const int f = piece[i];
+      for (int k = 0; k < 3; ++k) {
+        const int g = connectivity.twin[3 * f + k];
+        if (g < 0 || seen[g / 3]) continue;
+        // The two faces agree when the twin runs from this half-edge's end to its start.
+        const bool agree = F(g / 3, g % 3) == F(f, (k + 1) % 3);
+        turn[g / 3] = static_cast<char>(turn[f] ^ !agree);
+        turned += turn[g / 3];
+        seen[g / 3] = 1;
+        piece.push_back(g / 3);
+      }
+    }
+    if (2 * turned > static_cast<int>(piece.size()))
+      for (int f : piece) turn[f] = static_cast<char>(!turn[f]);
+  }
+  return turn;
+}
+
 }  // namespace sdp

@@ -43,4 +43,11 @@ struct Connectivity {
 // `vertex_count` bounds the indices of F (each in [0, vertex_count)).
 Connectivity analyzeConnectivity(const Triangles& F, int vertex_count);
 
+// Which faces to turn over (reverse their winding) so that faces joined across two-face edges
+// agree, per face 1 = turn over. Faces are walked breadth-first from each piece's first face; in
+// each piece the side kept is the one most of its faces already have (ties keep the first face's),
+// so a consistently wound mesh turns none. A non-orientable piece (a Moebius strip) keeps the
+// edges where the walk meets itself inconsistent.
+std::vector<char> coherentOrientation(const Triangles& F, const Connectivity& connectivity);
+
 }  // namespace sdp

@@ -423,11 +423,11 @@ std::vector<std::string> atlasReportLines(const sdp::atlas::AtlasReport& r) {
     summary += (summary.empty() ? "" : ", ") + std::string(field.key) + " " +
                formatted(field.log_format, field.number(r));
   lines.push_back(summary);
-  if (r.non_manifold_edges + r.non_manifold_vertices + r.inconsistent_edges + r.zero_area_faces > 0)
+  if (r.non_manifold_edges + r.non_manifold_vertices + r.zero_area_faces > 0)
     lines.push_back("split: " + std::to_string(r.non_manifold_edges) + " non-manifold edges, " +
-                    std::to_string(r.non_manifold_vertices) + " non-manifold vertices, " +
-                    std::to_string(r.inconsistent_edges) + " edges where orientation flips; " +
+                    std::to_string(r.non_manifold_vertices) + " non-manifold vertices; " +
                     std::to_string(r.zero_area_faces) + " zero-area faces charted alone");
+  // Faces wound against their neighbours have their own warning (the count and the fix).
   for (const std::string& note : r.notes) lines.push_back(note);
   for (const std::string& warning : r.warnings) lines.push_back("warning: " + warning);
   return lines;

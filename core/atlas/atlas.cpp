@@ -239,14 +239,14 @@ constexpr double kCutMinSide = 0.05;
 
 class AtlasBuilder {
  public:
-  AtlasBuilder(const Positions& V, const Triangles& F, const AtlasOptions& options)
-      : V_(V), F_(F), options_(options) {}
+  // `start`: when the run began (the connectivity of `F`, checked, is its first stage).
+  AtlasBuilder(const Positions& V, const Triangles& F, const AtlasOptions& options,
+               Clock::time_point start)
+      : V_(V), F_(F), options_(options), start_(start) {}
 
-  AtlasResult run() {
-    checkInput(V_, F_, options_);
+  AtlasResult run(const Connectivity& connectivity) {
     report(0);
-    auto stage = Clock::now();
-    const Connectivity connectivity = analyzeConnectivity(F_, static_cast<int>(V_.rows()));
+    auto stage = start_;
     const FaceGraph graph = buildFaceGraph(V_, F_, connectivity);
     AtlasReport& r = result_.report;
     r.vertices = connectivity.vertices;
@@ -568,7 +568,7 @@ class AtlasBuilder {
   const Positions& V_;
   const Triangles& F_;
   const AtlasOptions& options_;
-  const Clock::time_point start_ = Clock::now();
+  const Clock::time_point start_;
   AtlasResult result_;
   std::vector<Chart> charts_;
   double total_area_ = 0;
@@ -576,11 +576,44 @@ class AtlasBuilder {
   std::atomic<bool> cancelled_{false};
 };
 
+// Faces wound against their neighbours (a mesh whose faces were written in random order of
+// corners) are turned over to agree with their piece before charting, so charts cross those
+// edges as the surface runs instead of cutting each one; the stored corners are then given back
+// in the face's own order, so such a face's UV triangle runs clockwise: counted, not a fold.
+AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const AtlasOptions& options,
+                               const Connectivity& input, Clock::time_point start) {
+  const std::vector<char> turn = coherentOrientation(F, input);
+  Triangles turned = F;
+  int turned_faces = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (turn[f]) std::swap(turned(f, 1), turned(f, 2)), ++turned_faces;
+  const Connectivity connectivity = analyzeConnectivity(turned, static_cast<int>(V.rows()));
+  AtlasResult result = AtlasBuilder(V, turned, options, start).run(connectivity);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (turn[f]) std::swap(result.layout.face_uv(f, 1), result.layout.face_uv(f, 2));
+  AtlasReport& r = result.report;
+  r.inconsistent_edges = input.inconsistent_edges;
+  r.faces_against_chart = turned_faces;
+  r.warnings.insert(
+      r.warnings.begin(),
+      std::to_string(turned_faces) + " faces are wound against their neighbours (" +
+          std::to_string(input.inconsistent_edges) +
+          " inconsistent edges): charted as the surface runs, their texture triangles run "
+          "clockwise; MeshLab's Re-Orient all faces coherently (pymeshlab "
+          "meshing_re_orient_faces_coherently) fixes the winding");
+  return result;
+}
+
 }  // namespace
 
 AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions& options) {
   try {
-    return AtlasBuilder(V, F, options).run();
+    const Clock::time_point start = Clock::now();
+    checkInput(V, F, options);
+    const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()));
+    if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
+      return atlasOfTurnedFaces(V, F, options, connectivity, start);
+    return AtlasBuilder(V, F, options, start).run(connectivity);
   } catch (const std::bad_alloc&) {
     throw ParameterizationError("not enough memory to make an atlas of a mesh of " +
                                 std::to_string(V.rows()) + " vertices and " +
@@ -604,6 +637,10 @@ const std::vector<AtlasSummaryField>& atlasSummaryFields() {
        [](R r) { return double(r.flipped_faces); }},
       {"overlapping_charts", "charts overlapping another as stored (always 0)", true, "%.0f",
        [](R r) { return double(r.overlapping_charts); }},
+      {"faces_against_chart",
+       "faces wound against their neighbours, turned over for charting: their texture triangles "
+       "run clockwise, as the surface runs (not flipped_faces, which counts folds)",
+       true, "%.0f", [](R r) { return double(r.faces_against_chart); }},
       {"seconds", "wall time of the atlas (no file I/O)", false, "%.2f",
        [](R r) { return r.seconds; }},
   };
@@ -630,8 +667,11 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
        [](R r) { return jsonInt(r.non_manifold_edges); }},
       {"non_manifold_vertices", "vertices whose faces form more than one fan: split per fan",
        [](R r) { return jsonInt(r.non_manifold_vertices); }},
-      {"inconsistent_edges", "edges whose two faces are oriented against each other: cut",
+      {"inconsistent_edges",
+       "edges whose two faces are wound against each other in the input (charts cross them once "
+       "the faces are turned to agree, see faces_against_chart)",
        [](R r) { return jsonInt(r.inconsistent_edges); }},
+
       {"zero_area_faces",
        "faces of zero area or a repeated vertex: a chart each, a positive-area UV triangle, left "
        "out of the stretch",

@@ -1,6 +1,7 @@
 // The atlas: any triangle mesh in (closed, any genus, many pieces, non-manifold, inconsistently
 // oriented), one packed texture layout out (docs/method.md §7):
-//   connectivity   half-edges, components, non-manifold elements (connectivity.h), reported
+//   connectivity   half-edges, components, non-manifold elements (connectivity.h), reported;
+//                  faces wound against their neighbours turned over to agree with them
 //   charts         disk-shaped charts grown on the faces (charts.h), split until each flattens
 //                  with low stretch
 //   flatten        every chart by the patch pipeline (flattenDisk: straightest weights, measured
@@ -48,6 +49,10 @@ struct AtlasOptions {
   // user asks: lower means more, smaller charts).
   double max_chart_stretch = 1.03;
   UVStorage storage = UVStorage::Double;
+  // Faces wound against their neighbours are turned over for charting, so charts cross those
+  // edges (their texture triangles then run clockwise, AtlasReport::faces_against_chart); false
+  // cuts every such edge instead (kept for the bench's comparison; docs/method.md §7).
+  bool turn_inconsistent_faces = true;
 };
 
 struct ChartReport {
@@ -72,8 +77,11 @@ struct AtlasReport {
   int flipped_faces = 0;                                  // 0: certified as stored
   int overlapping_charts = 0;                             // 0: certified as stored
   int non_manifold_edges = 0, non_manifold_vertices = 0;  // split inside the core
-  int inconsistent_edges = 0;                             // edges where orientation flips: cut
-  int zero_area_faces = 0;                                // charted alone, left out of the stretch
+  int inconsistent_edges = 0;  // edges whose two faces are wound against each other, as input
+  // Faces turned over to agree with their piece before charting: their texture triangles run
+  // clockwise against their own winding, as the surface runs (0 for a consistently wound mesh).
+  int faces_against_chart = 0;
+  int zero_area_faces = 0;  // charted alone, left out of the stretch
   int chart_fallbacks = 0;  // the patch pipeline's fallbacks, over every chart flattening
   int charts_split = 0;     // charts refined into smaller ones for stretch, disk shape or packing
   std::string storage = "double";

@@ -71,18 +71,30 @@ void coveredPixelsInRows(const Eigen::Vector2d q[3], int width, int row_begin, i
       row_end - 1, static_cast<int>(std::floor(std::max({p[0].y(), p[1].y(), p[2].y()}) - 0.5)));
   // An edge a -> b owns the centres exactly on it when it runs up, or runs left along a row:
   // the edge shared by two triangles runs the other way in the other, which then does not.
-  bool owns[3];
+  // Each edge's side test is evaluated from its lower endpoint (by y, then x) and negated when
+  // the edge runs the other way, so the two triangles sharing an edge compute exactly opposite
+  // values: evaluated from each triangle's own corner, rounding could put a centre on the edge
+  // inside both (a split quad's diagonal through pixel centres was covered twice).
+  bool owns[3], reversed[3];
+  Eigen::Vector2d origin[3], direction[3];
   for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector2d e = p[(k + 1) % 3] - p[k];
+    const Eigen::Vector2d& a = p[k];
+    const Eigen::Vector2d& b = p[(k + 1) % 3];
+    const Eigen::Vector2d e = b - a;
     owns[k] = e.y() > 0 || (e.y() == 0 && e.x() < 0);
+    reversed[k] = b.y() < a.y() || (b.y() == a.y() && b.x() < a.x());
+    origin[k] = reversed[k] ? b : a;
+    direction[k] = reversed[k] ? Eigen::Vector2d(a - b) : e;
   }
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
       const Eigen::Vector2d c(x + 0.5, y + 0.5);
       bool inside = true;
       for (int k = 0; k < 3 && inside; ++k) {
-        const Eigen::Vector2d a = p[k], e = p[(k + 1) % 3] - p[k];
-        const double side = e.x() * (c.y() - a.y()) - e.y() * (c.x() - a.x());
+        const Eigen::Vector2d& a = origin[k];
+        const Eigen::Vector2d& e = direction[k];
+        double side = e.x() * (c.y() - a.y()) - e.y() * (c.x() - a.x());
+        if (reversed[k]) side = -side;
         inside = side > 0 || (side == 0 && owns[k]);
       }
       if (inside) visit(x, y);

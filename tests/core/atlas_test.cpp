@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <random>
 
 #include "core/atlas/atlas.h"
 #include "core/atlas/charts.h"
@@ -17,6 +18,7 @@
 #include "core/atlas/measure.h"
 #include "core/atlas/pack.h"
 #include "core/atlas/raster.h"
+#include "core/connectivity.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "test_mesh_files.h"
@@ -102,7 +104,19 @@ AtlasOptions quickOptions(int texture_size = 1024) {
 // The hard gates of an atlas as stored, measured from its layout alone.
 void expectCertified(const Mesh& mesh, const AtlasResult& r, const AtlasOptions& o,
                      double l2_limit = 1.05) {
-  const AtlasMeasures m = measureAtlas(mesh.V, mesh.F, r.layout, o.texture_size, o.gutter);
+  // Faces wound against their neighbours are measured as the atlas charted them: turned over
+  // (corners 1 and 2 swapped in the mesh and in the layout alike). Gates are then on that mesh.
+  Triangles F = mesh.F;
+  Layout layout = r.layout;
+  if (o.turn_inconsistent_faces) {
+    const std::vector<char> turn =
+        coherentOrientation(F, analyzeConnectivity(F, static_cast<int>(mesh.V.rows())));
+    EXPECT_EQ(std::count(turn.begin(), turn.end(), 1), r.report.faces_against_chart);
+    for (int f = 0; f < F.rows(); ++f)
+      if (turn[f])
+        std::swap(F(f, 1), F(f, 2)), std::swap(layout.face_uv(f, 1), layout.face_uv(f, 2));
+  }
+  const AtlasMeasures m = measureAtlas(mesh.V, F, layout, o.texture_size, o.gutter);
   EXPECT_EQ(m.flipped_faces, 0);
   EXPECT_EQ(m.mirrored_charts, 0);
   EXPECT_EQ(m.overlapping_pixels, 0);
@@ -127,6 +141,33 @@ TEST(AtlasRaster, TwoTrianglesSharingAnEdgeCoverEachPixelOnce) {
   coveredPixels(t1, 8, 8, [&](int x, int y) { ++count[y * 8 + x]; });
   coveredPixels(t2, 8, 8, [&](int x, int y) { ++count[y * 8 + x]; });
   for (int n : count) EXPECT_EQ(n, 1);
+}
+
+TEST(AtlasRaster, SharedEdgesThroughCentresCoverEachPixelOnceWhateverTheRounding) {
+  // Squares at arbitrary offsets and scales (as packing places them), split along a diagonal
+  // that runs through pixel centres up to rounding: each centre still goes to one triangle.
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int trial = 0; trial < 2000; ++trial) {
+    // Texel coordinates as uv * size, each a rounding away from the exact centre line.
+    const double scale_x = 1 + unit(random), scale_y = 1 + unit(random);
+    const double x0 = 3.5 / scale_x * scale_x, y0 = 3.5 / scale_y * scale_y;
+    const double side = 4 + 20 * unit(random), offset = std::max(x0, y0);
+    const Eigen::Vector2d a(x0, y0), b(x0 + side, y0), c(x0 + side, y0 + side), d(x0, y0 + side);
+    const Eigen::Vector2d t1[3] = {a, b, c}, t2[3] = {a, c, d};
+    std::vector<int> count(32 * 32, 0);
+    coveredPixels(t1, 32, 32, [&](int x, int y) { ++count[y * 32 + x]; });
+    coveredPixels(t2, 32, 32, [&](int x, int y) { ++count[y * 32 + x]; });
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) {
+        ASSERT_LE(count[y * 32 + x], 1) << "trial " << trial << " pixel " << x << "," << y;
+        // A centre well inside the square, on or off the diagonal, is covered.
+        const double cx = x + 0.5, cy = y + 0.5;
+        if (cx > offset + 0.01 && cy > offset + 0.01 && cx < offset + side - 0.01 &&
+            cy < offset + side - 0.01)
+          ASSERT_EQ(count[y * 32 + x], 1) << "trial " << trial << " pixel " << x << "," << y;
+      }
+  }
 }
 
 TEST(AtlasRaster, ConservativeCellsHoldEveryCoveredPixel) {
@@ -256,13 +297,75 @@ TEST(Atlas, SeveralPiecesOpenAndClosed) {
   EXPECT_GT(r.report.texels_per_unit, 0);
 }
 
-TEST(Atlas, InconsistentOrientationIsCutNeverMirrored) {
+TEST(Atlas, InconsistentOrientationIsCutNeverMirroredWhenFacesAreNotTurned) {
   Mesh mesh = sphere(3);
   for (int f = 0; f < mesh.F.rows(); f += 7) std::swap(mesh.F(f, 1), mesh.F(f, 2));
-  const AtlasOptions o = quickOptions();
+  AtlasOptions o = quickOptions();
+  o.turn_inconsistent_faces = false;
   const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
   expectCertified(mesh, r, o);
   EXPECT_GT(r.report.inconsistent_edges, 0);
+  EXPECT_EQ(r.report.faces_against_chart, 0);
+  EXPECT_TRUE(r.report.warnings.empty());
+}
+
+TEST(Atlas, FacesWoundAgainstTheirNeighboursAreChartedAsTheSurfaceRuns) {
+  const Mesh consistent = sphere(3);
+  Mesh mesh = consistent;
+  int swapped = 0;
+  for (int f = 0; f < mesh.F.rows(); f += 3) std::swap(mesh.F(f, 1), mesh.F(f, 2)), ++swapped;
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  const AtlasResult expected = makeAtlas(consistent.V, consistent.F, o);
+  // The minority turned back: the consistent sphere's atlas exactly, each turned face's corners
+  // in its own order (so its texture triangle runs clockwise), counted and warned about.
+  EXPECT_EQ(r.report.faces_against_chart, swapped);
+  EXPECT_GT(r.report.inconsistent_edges, 0);
+  EXPECT_EQ(r.report.charts, expected.report.charts);
+  EXPECT_EQ(r.report.flipped_faces, 0);
+  ASSERT_EQ(r.report.warnings.size(), 1u);
+  EXPECT_NE(r.report.warnings[0].find(std::to_string(swapped) + " faces are wound against"),
+            std::string::npos);
+  EXPECT_NE(r.report.warnings[0].find("meshing_re_orient_faces_coherently"), std::string::npos);
+  EXPECT_EQ(r.layout.uv, expected.layout.uv);
+  Triangles corners_back = r.layout.face_uv;
+  for (int f = 0; f < mesh.F.rows(); f += 3) std::swap(corners_back(f, 1), corners_back(f, 2));
+  EXPECT_EQ(corners_back, expected.layout.face_uv);
+  // As stored, no pixel is covered twice and the gutter holds; the turned faces run clockwise.
+  const AtlasMeasures m = measureAtlas(mesh.V, mesh.F, r.layout, o.texture_size, o.gutter);
+  EXPECT_EQ(m.overlapping_pixels, 0);
+  EXPECT_EQ(m.gutter_violations, 0);
+  EXPECT_EQ(m.charts, r.report.charts);
+}
+
+TEST(Atlas, AMoebiusStripKeepsTheEdgeWhereItsWalkMeetsItselfCut) {
+  // A strip of quads closed with a half twist: no winding agrees everywhere.
+  Mesh mesh;
+  const int n = 24;
+  mesh.V.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n, twist = a / 2;
+    for (int s = 0; s < 2; ++s) {
+      const double r = 1 + (s ? 0.25 : -0.25) * std::cos(twist);
+      mesh.V.row(2 * i + s) << r * std::cos(a), r * std::sin(a),
+          (s ? 0.25 : -0.25) * std::sin(twist);
+    }
+  }
+  mesh.F.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const int a = 2 * i, b = 2 * i + 1;
+    // The last quad joins the first column upside down (the half twist).
+    const int c = i + 1 < n ? 2 * (i + 1) : 1, d = i + 1 < n ? 2 * (i + 1) + 1 : 0;
+    mesh.F.row(2 * i) << a, c, d;
+    mesh.F.row(2 * i + 1) << a, d, b;
+  }
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  EXPECT_EQ(r.report.flipped_faces, 0);
+  EXPECT_GE(r.report.charts, 1);
+  const AtlasMeasures m = measureAtlas(mesh.V, mesh.F, r.layout, o.texture_size, o.gutter);
+  EXPECT_EQ(m.overlapping_pixels, 0);
+  EXPECT_EQ(m.gutter_violations, 0);
 }
 
 TEST(Atlas, NonManifoldEdgeAndZeroAreaFacesAreCharted) {

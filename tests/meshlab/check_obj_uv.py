@@ -2,7 +2,8 @@
 """Checks an OBJ written by meshlabserver -m wt after the straightest-distances filter.
 
 Recomputes from the file alone: every face has per-wedge texture coordinates, no face is flipped
-or degenerate in UV (signed area > 0), the .mtl's map_Kd texture exists, and -- given the
+or degenerate in UV (signed area > 0; faces wound against their neighbours, as many as the log
+says, are measured turned over, as the atlas charts them), the .mtl's map_Kd texture exists, and -- given the
 meshlabserver log -- the Sander L2 stretch (docs/method.md section 5) matches the logged one. Plain
 Python: it runs with any python3.
 """
@@ -89,6 +90,37 @@ def count_charts(faces, uvs):
     return len({find(f) for f in range(len(faces))})
 
 
+def coherent_turns(faces):
+    """Per face, whether to turn it over so faces joined across two-face edges agree, keeping in
+    each piece the winding most of its faces have (as the atlas does, core/connectivity.h)."""
+    edges = {}
+    for f, corners in enumerate(faces):
+        n = len(corners)
+        for k in range(n):
+            a, b = corners[k][0], corners[(k + 1) % n][0]
+            edges.setdefault((min(a, b), max(a, b)), []).append((f, a))
+    neighbours = [[] for _ in faces]
+    for pairs in edges.values():
+        if len(pairs) == 2:
+            (f, a), (g, b) = pairs
+            neighbours[f].append((g, a != b))  # agree: the edge runs the other way in g
+            neighbours[g].append((f, a != b))
+    turn, seen = [False] * len(faces), [False] * len(faces)
+    for start in range(len(faces)):
+        if seen[start]:
+            continue
+        piece, seen[start] = [start], True
+        for f in piece:
+            for g, agree in neighbours[f]:
+                if not seen[g]:
+                    seen[g], turn[g] = True, turn[f] != (not agree)
+                    piece.append(g)
+        if 2 * sum(turn[f] for f in piece) > len(piece):
+            for f in piece:
+                turn[f] = not turn[f]
+    return turn
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("obj")
@@ -105,6 +137,18 @@ def main():
     positions, uvs, faces, mtllibs = read_obj(args.obj)
     if not faces:
         problems.append("no faces")
+    # Faces wound against their neighbours, which the atlas charts turned over (their UV
+    # triangles then run clockwise): measured turned, and their number as the log gives it.
+    logged = None
+    if args.log and os.path.exists(args.log):
+        with open(args.log, errors="replace") as f:
+            found = re.search(r"(\d+) faces are wound against their neighbours", f.read())
+        logged = int(found.group(1)) if found else 0
+    if logged:
+        turns = coherent_turns(faces)
+        if sum(turns) != logged:
+            problems.append(f"{sum(turns)} faces wound against their neighbours, {logged} logged")
+        faces = [[c[0], c[2], c[1]] if t and len(c) == 3 else c for c, t in zip(faces, turns)]
     triangles, flipped, missing_uv = [], 0, 0
     for corners in faces:
         if len(corners) != 3 or any(vt is None for _, vt in corners):
