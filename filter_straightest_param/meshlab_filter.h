@@ -166,9 +166,28 @@ sdp::ProgressCallback progressTo(CallBackPos* cb, std::string prefix, std::strin
 }
 
 struct MeshModelRun {
-  vcg_adapter::MeshRun run;  // its report describes the UVs as the mesh now holds them
-  CheckerTexture texture;    // written, not yet attached
+  vcg_adapter::MeshRun run;            // its report describes the UVs as the mesh now holds them
+  CheckerTexture texture;              // written, not yet attached
+  bool polygons_as_triangles = false;  // keepTrianglesThatCarryTheMap turned polygons off
 };
+
+// The note a polygon mesh gets once its triangles carry the map.
+constexpr const char* kPolygonalNote =
+    "the mesh's polygons are saved as the triangles that carry the map: MeshLab's polygonal "
+    "export (the export dialog's Polygonal box, pymeshlab's save_polygonal) drops per-wedge "
+    "texture coordinates, so it is turned off for this mesh";
+
+// MeshLab keeps a polygon mesh as triangles with faux edges and the MM_POLYGONAL flag; its
+// exporters then rebuild the polygons (PolygonSupport::ImportFromTriMesh), which keeps no
+// per-wedge texture coordinates, and every save with default options (the export dialog,
+// pymeshlab's save_current_mesh) would lose the map. Clearing the flag makes every front end
+// save the triangles with their UVs. True when the mesh was polygonal (kPolygonalNote applies).
+template <class MeshModelT>
+bool keepTrianglesThatCarryTheMap(MeshModelT& mm) {
+  if (!mm.hasDataMask(MeshModelT::MM_POLYGONAL)) return false;
+  mm.clearDataMask(MeshModelT::MM_POLYGONAL);
+  return true;
+}
 
 // The part of applyFilter every shim shares, in the order that keeps a failure from touching the
 // mesh: read and check the parameters, run the core, prepare what will be stored, write the
@@ -197,6 +216,8 @@ MeshModelRun parameterizeMeshModel(MeshModelT& mm, const ParameterList& paramete
 
   mm.updateDataMask(MeshModelT::MM_WEDGTEXCOORD | MeshModelT::MM_FACEQUALITY);
   vcg_adapter::applyResult(mm.cm, out.run.input, stored, write);
+  out.polygons_as_triangles = keepTrianglesThatCarryTheMap(mm);
+  if (out.polygons_as_triangles) out.run.notes.push_back(kPolygonalNote);
   return out;
 }
 
@@ -208,6 +229,8 @@ inline std::vector<std::string> logLines(const MeshModelRun& done) {
 struct MeshModelAtlas {
   vcg_adapter::AtlasRun run;
   CheckerTexture texture;  // written, not yet attached
+  bool polygons_as_triangles = false;
+  std::vector<std::string> notes;  // the front end's remarks (kPolygonalNote)
 };
 
 // The atlas filter's applyFilter part every shim shares, in the same failure-safe order as the
@@ -231,6 +254,8 @@ MeshModelAtlas atlasMeshModel(MeshModelT& mm, const ParameterList& parameters,
   vcg_adapter::WriteOptions write;  // wedges only: a seam vertex has no single coordinate
   vcg_adapter::applyResult(mm.cm, out.run.input, stored, write);
   vcg_adapter::applyCharts(mm.cm, out.run.input, out.run.result.layout.chart);
+  out.polygons_as_triangles = keepTrianglesThatCarryTheMap(mm);
+  if (out.polygons_as_triangles) out.notes.push_back(kPolygonalNote);
   return out;
 }
 

@@ -69,6 +69,7 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyAtlas(
   const auto done = sdp::meshlab::atlasMeshModel(mm, parameters, progress);
   mm.clearTextures();
   mm.addTexture(done.texture.name.toStdString(), done.texture.image);
+  for (const std::string& line : done.notes) log("%s", line.c_str());
   for (const std::string& line : sdp::filter::atlasReportLines(done.run.result.report))
     log("%s", line.c_str());
   log("texture %s", qUtf8Printable(done.texture.path));
@@ -78,6 +79,9 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyAtlas(
     const double value = field.number(done.run.result.report);
     values[field.key] = field.integer ? QVariant(static_cast<int>(value)) : QVariant(value);
   }
+  // pymeshlab hands only numbers on to Python (a string is dropped from the dict): the notes
+  // are counts here, worded by the pip package (pymeshlab_straightest adds `notes`).
+  values["polygons_as_triangles"] = QVariant(done.polygons_as_triangles);
   return values;
 }
 
@@ -113,6 +117,7 @@ std::map<std::string, QVariant> FilterStraightestParamPlugin::applyFilter(
       const double value = field.number(report);
       values[field.key] = field.integer ? QVariant(static_cast<int>(value)) : QVariant(value);
     }
+    values["polygons_as_triangles"] = QVariant(done.polygons_as_triangles);
     return values;
   } catch (const MLException&) {
     throw;

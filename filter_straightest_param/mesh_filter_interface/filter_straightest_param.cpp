@@ -64,6 +64,7 @@ void FilterStraightestParamPlugin::applyAtlas(const RichParameterList& parameter
   const auto done = sdp::meshlab::atlasMeshModel(mm, parameters, progress);
   mm.cm.textures.clear();
   mm.cm.textures.push_back(done.texture.path.toStdString());
+  for (const std::string& line : done.notes) Log("%s", line.c_str());
   for (const std::string& line : sdp::filter::atlasReportLines(done.run.result.report))
     Log("%s", line.c_str());
   Log("texture %s", qUtf8Printable(done.texture.path));

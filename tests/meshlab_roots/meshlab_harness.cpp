@@ -67,11 +67,28 @@ void printLog(MeshDocument& md) {
   for (const QString& line : lines) std::cout << "log: " << line.toStdString() << "\n";
 }
 
-// Saves the current mesh with MeshLab's own OBJ exporter, per-wedge UVs and textures when asked.
+// The attributes MeshLab's export dialog ticks by default (SaveMeshAttributesDialog:
+// shouldBeChecked): each bit the exporter suggests whose data the mesh holds, the Polygonal box
+// (IOM_BITPOLYGONAL) among them for a mesh read from polygons. I/O bits (io_mask.h).
+int exportDialogDefaults(const MeshModel& mm, int defaults) {
+  namespace io = vcg::tri::io;
+  // The dialog's boxes, in its order (the camera box needs a valid shot: not for these meshes).
+  const int boxes[] = {
+      io::Mask::IOM_VERTQUALITY,  io::Mask::IOM_VERTFLAGS,   io::Mask::IOM_VERTCOLOR,
+      io::Mask::IOM_VERTTEXCOORD, io::Mask::IOM_VERTNORMAL,  io::Mask::IOM_VERTRADIUS,
+      io::Mask::IOM_FACEQUALITY,  io::Mask::IOM_FACEFLAGS,   io::Mask::IOM_FACECOLOR,
+      io::Mask::IOM_FACENORMAL,   io::Mask::IOM_WEDGCOLOR,   io::Mask::IOM_WEDGTEXCOORD,
+      io::Mask::IOM_WEDGNORMAL,   io::Mask::IOM_BITPOLYGONAL};
+  int mask = io::Mask::IOM_VERTCOORD | io::Mask::IOM_FACEINDEX;
+  for (int bit : boxes)
+    if ((defaults & bit) && mm.hasDataMask(MeshModel::io2mm(bit))) mask |= bit;
+  return mask;
+}
+
+// Saves the current mesh with MeshLab's own OBJ exporter as its export dialog does by default
+// (per-wedge UVs and textures when the mesh has them), or positions and faces only.
 int saveObj(PluginManager& plugins, MeshDocument& md, const char* path, bool wedge_uvs) {
   MeshModel* mm = md.mm();
-  // The exporter's mask takes I/O bits (io_mask.h), not MeshModel's; no IOM_BITPOLYGONAL, whose
-  // polygon conversion drops wedge UVs.
   const QString out = QFileInfo(QString::fromLocal8Bit(path)).absoluteFilePath();
   IOPlugin* exporter = plugins.outputMeshPlugin("obj");
   if (exporter == nullptr) {
@@ -86,8 +103,13 @@ int saveObj(PluginManager& plugins, MeshDocument& md, const char* path, bool wed
     std::cout << "the OBJ exporter cannot write wedge texture coordinates\n";
     return 1;
   }
-  const int mask = io::Mask::IOM_VERTCOORD | io::Mask::IOM_FACEINDEX |
-                   (wedge_uvs ? io::Mask::IOM_WEDGTEXCOORD : 0);
+  const int mask = wedge_uvs ? exportDialogDefaults(*mm, defaults)
+                             : io::Mask::IOM_VERTCOORD | io::Mask::IOM_FACEINDEX;
+  if (wedge_uvs && !(mask & io::Mask::IOM_WEDGTEXCOORD)) {
+    std::cout << "the export dialog would not save the wedge texture coordinates\n";
+    return 1;
+  }
+  if (mask & io::Mask::IOM_BITPOLYGONAL) std::cout << "saving polygons\n";
   try {
     exporter->save("obj", out, *mm, mask, exporter->initSaveParameter("obj", *mm), nullptr);
     // The .mtl names the texture; MeshLab keeps the image in memory until the mesh is saved.

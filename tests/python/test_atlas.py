@@ -13,7 +13,7 @@ from conftest import SHARED, run_guarded
 
 ATLAS = "compute_texcoord_parametrization_straightest_distances_atlas"
 SUMMARY = ["charts", "seam", "packing_efficiency", "l2_stretch", "linf_stretch", "flipped_faces",
-           "overlapping_charts", "seconds"]
+           "overlapping_charts", "seconds", "faces_against_chart", "polygons_as_triangles"]
 
 
 @pytest.fixture(scope="module")
@@ -44,9 +44,12 @@ def expect_certified(mesh, report):
     chart = np.array(mesh.face_custom_scalar_attribute_array("chart"))
     assert chart.shape == (mesh.face_number(),)
     assert chart.min() >= 0 and len(np.unique(chart)) == report["charts"]
-    # Every face counter-clockwise in its chart: positive signed UV area.
+    # Every face counter-clockwise in its chart: positive signed UV area; but the faces wound
+    # against their neighbours, charted turned over, which run clockwise (none degenerate).
     e1, e2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
-    assert (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] > 0).all()
+    areas = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    assert (areas != 0).all()
+    assert int((areas < 0).sum()) == report["faces_against_chart"]
 
 
 def test_closed_sphere_with_colours_and_selection_kept(atlas_ml):

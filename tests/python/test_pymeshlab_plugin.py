@@ -11,7 +11,7 @@ import stretch
 from conftest import BOUNDARIES, DISK_MESHES, FILTER, INVALID_MESHES, WEIGHTS, run_guarded
 
 REPORT_KEYS = {"l2_stretch", "linf_stretch", "flipped_faces", "fallbacks", "source_vertex",
-               "seconds"}
+               "seconds", "polygons_as_triangles"}
 
 
 def load_copy(ml, mesh_path, folder):
