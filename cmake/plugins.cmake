@@ -10,7 +10,11 @@
 # scripts/make-meshlab-root.sh), so that every MeshLab symbol it uses is checked at link time. A
 # missing source folder skips that plugin with a warning.
 # The tests find the builds as SDP_HOST_PLUGIN_TARGET (this machine's MeshLab and meshlabserver),
-# SDP_PYMESHLAB_PLUGIN_TARGET and the global property SDP_ROOT_PLUGIN_TARGETS.
+# SDP_PYMESHLAB_PLUGIN_TARGET (pymeshlab 2025.7.post1, the .venv), and the global properties
+# SDP_ROOT_PLUGIN_TARGETS and SDP_OLDER_PYMESHLAB_TARGETS (older pymeshlab wheels pipelines pin).
+# A row's `source` names the source tree it compiles against, its `version` the MeshLab version
+# it declares (MESHLAB_VERSION): pymeshlab 2023.12 has no Debian source, and its plugin API is
+# 2025.07's.
 
 if(DEFINED ENV{SDP_CACHE_DIR})
   set(SDP_MESHLAB_CACHE_DIR "$ENV{SDP_CACHE_DIR}")
@@ -39,13 +43,19 @@ endfunction()
 
 file(STRINGS "${PROJECT_SOURCE_DIR}/meshlab-builds.tsv" SDP_MESHLAB_BUILD_ROWS REGEX "^[^#]")
 
-# Each version's source tree, once per version; the last one found (the table runs oldest first)
-# is SDP_NEWEST_MESHLAB_SOURCE_DIR, whose vcglib the bench's reader comparison uses.
+# Each source version's tree (column `source`), once per version; the last one found (the table
+# runs oldest first) is SDP_NEWEST_MESHLAB_SOURCE_DIR, whose vcglib the bench's reader comparison
+# uses. SDP_MESHLAB_SOURCE_VERSIONS lists them (the vcglib adapter tests build once per source).
 set(SDP_ANY_MESHLAB_SOURCE FALSE)
 set(SDP_NEWEST_MESHLAB_SOURCE_DIR "")
+set(SDP_MESHLAB_SOURCE_VERSIONS "")
 foreach(row IN LISTS SDP_MESHLAB_BUILD_ROWS)
   string(REPLACE "\t" ";" fields "${row}")
-  list(GET fields 1 version)
+  list(GET fields 10 version)
+  if(version IN_LIST SDP_MESHLAB_SOURCE_VERSIONS)
+    continue()
+  endif()
+  list(APPEND SDP_MESHLAB_SOURCE_VERSIONS ${version})
   string(REPLACE "." "_" version_id "${version}")
   sdp_recorded_meshlab_source(${version} recorded)
   sdp_cache_path(MESHLAB_SOURCE_DIR_${version_id} "${recorded}" PATH
@@ -65,15 +75,28 @@ set(MESHLAB_HOST_PLUGIN_INSTALL_DIR "/usr/lib/x86_64-linux-gnu/meshlab/plugins" 
 # pymeshlab's own libmeshlab-common.so, in the project's .venv (sdp_add_meshlab_build says why).
 set(SDP_PYTHON "${PROJECT_SOURCE_DIR}/.venv/bin/python" CACHE FILEPATH
     "Python with pymeshlab==2025.7.post1, pytest and numpy (scripts/install-deps.sh makes .venv)")
-file(GLOB SDP_PYMESHLAB_COMMON_CANDIDATES
-     "${PROJECT_SOURCE_DIR}/.venv/lib/python3*/site-packages/pymeshlab/lib/libmeshlab-common.so")
-set(SDP_PYMESHLAB_COMMON_DEFAULT "")
-if(SDP_PYMESHLAB_COMMON_CANDIDATES)
-  list(SORT SDP_PYMESHLAB_COMMON_CANDIDATES)
-  list(GET SDP_PYMESHLAB_COMMON_CANDIDATES -1 SDP_PYMESHLAB_COMMON_DEFAULT)
-endif()
+
+# The virtual environment of a pymeshlab row (runs_in `pymeshlab`: .venv; `pymeshlab-VERSION`:
+# .venv-pymeshlab-VERSION, scripts/install-deps.sh makes both) and its libmeshlab-common.so ("" when
+# it is not there yet).
+function(sdp_pymeshlab_venv runs_in venv_var common_var)
+  if(runs_in STREQUAL "pymeshlab")
+    set(venv "${PROJECT_SOURCE_DIR}/.venv")
+  else()
+    set(venv "${PROJECT_SOURCE_DIR}/.venv-${runs_in}")
+  endif()
+  file(GLOB candidates "${venv}/lib/python3*/site-packages/pymeshlab/lib/libmeshlab-common.so")
+  set(common "")
+  if(candidates)
+    list(SORT candidates)
+    list(GET candidates -1 common)
+  endif()
+  set(${venv_var} "${venv}" PARENT_SCOPE)
+  set(${common_var} "${common}" PARENT_SCOPE)
+endfunction()
+sdp_pymeshlab_venv(pymeshlab SDP_MAIN_VENV SDP_PYMESHLAB_COMMON_DEFAULT)
 sdp_cache_path(MESHLAB_PYMESHLAB_COMMON_LIBRARY "${SDP_PYMESHLAB_COMMON_DEFAULT}" FILEPATH
-  "pymeshlab's bundled libmeshlab-common.so")
+  "pymeshlab's bundled libmeshlab-common.so (the .venv's, pymeshlab 2025.7.post1)")
 
 set(SDP_BUILT_MESHLAB_PLUGINS "")
 if(NOT SDP_ANY_MESHLAB_SOURCE)
@@ -159,12 +182,13 @@ function(sdp_add_meshlab_build row)
   list(GET fields 2 api)
   list(GET fields 3 scalar)
   list(GET fields 4 runs_in)
-  string(REPLACE "." "_" version_id "${version}")
-  set(source_dir "${MESHLAB_SOURCE_DIR_${version_id}}")
+  list(GET fields 10 source_version)
+  string(REPLACE "." "_" source_id "${source_version}")
+  set(source_dir "${MESHLAB_SOURCE_DIR_${source_id}}")
   set(target plugin_${folder})
   sdp_meshlab_api(${api})
   if(NOT EXISTS "${source_dir}/${api_header}")
-    message(WARNING "MeshLab ${version} sources not found (MESHLAB_SOURCE_DIR_${version_id}="
+    message(WARNING "MeshLab ${source_version} sources not found (MESHLAB_SOURCE_DIR_${source_id}="
                     "'${source_dir}'): skipping the ${folder} plugin. Run scripts/fetch-meshlab-sources.sh.")
     return()
   endif()
@@ -185,8 +209,13 @@ function(sdp_add_meshlab_build row)
     endif()
     list(APPEND libraries "${MESHLAB_HOST_COMMON_LIBRARY}")
     set(install_dir "${MESHLAB_HOST_PLUGIN_INSTALL_DIR}")
-  elseif(runs_in STREQUAL "pymeshlab")
-    set(common "${MESHLAB_PYMESHLAB_COMMON_LIBRARY}")
+  elseif(runs_in MATCHES "^pymeshlab")
+    if(runs_in STREQUAL "pymeshlab")
+      set(venv "${SDP_MAIN_VENV}")
+      set(common "${MESHLAB_PYMESHLAB_COMMON_LIBRARY}")
+    else()
+      sdp_pymeshlab_venv(${runs_in} venv common)
+    endif()
     if(EXISTS "${common}")
       get_filename_component(lib_dir "${common}" DIRECTORY)
       # rpath-link: let ld find that library's own dependencies (its Qt, GLEW) at link time only.
@@ -202,7 +231,7 @@ function(sdp_add_meshlab_build row)
         set(scalar double)
       endif()
     else()
-      message(WARNING "pymeshlab's libmeshlab-common.so not found (MESHLAB_PYMESHLAB_COMMON_LIBRARY): "
+      message(WARNING "pymeshlab's libmeshlab-common.so not found in ${venv}: "
                       "the ${folder} plugin leaves MeshLab symbols undefined. Run "
                       "scripts/install-deps.sh, then re-configure.")
       set(allow_undefined ALLOW_UNDEFINED)
@@ -235,6 +264,10 @@ function(sdp_add_meshlab_build row)
   if(runs_in STREQUAL "host")
     set(SDP_HOST_PLUGIN_TARGET ${target} PARENT_SCOPE)
     set(SDP_HOST_PLUGIN_FOLDER ${folder} PARENT_SCOPE)
+  elseif(runs_in MATCHES "^pymeshlab-")
+    # An older pymeshlab a pipeline may pin: its tests run in its own .venv-pymeshlab-VERSION.
+    set_target_properties(${target} PROPERTIES SDP_VENV "${venv}" SDP_RUNS_IN ${runs_in})
+    set_property(GLOBAL APPEND PROPERTY SDP_OLDER_PYMESHLAB_TARGETS ${target})
   elseif(runs_in STREQUAL "pymeshlab")
     set(SDP_PYMESHLAB_PLUGIN_TARGET ${target} PARENT_SCOPE)
     # Opt-in: copy the plugin into pymeshlab's own plugin folder, so that `import pymeshlab`

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Downloads Debian's upstream MeshLab tarball of each version in meshlab-builds.tsv (they carry
+# Downloads Debian's upstream MeshLab tarball of each source version in meshlab-builds.tsv (they carry
 # src/common and a full vcglib: the plugin headers no -dev package ships), checks their SHA256,
 # extracts each once and records the source folder in $SDP_CACHE_DIR/meshlab-<version>.path for
 # cmake/plugins.cmake.
@@ -68,4 +68,4 @@ while IFS=$'\t' read -r version file hash; do
   fi
   echo "$cache_dir/src/$top" >"$path_file"
   echo "$version $cache_dir/src/$top"
-done < <(meshlab_builds | awk -F'\t' '!seen[$2]++ { print $2 "\t" $6 "\t" $7 }')
+done < <(meshlab_builds | awk -F'\t' '!seen[$11]++ { print $11 "\t" $6 "\t" $7 }')

@@ -9,7 +9,8 @@
 #   - a Debian root per suite of that table, holding the MeshLab GUI that the plugin for it is
 #     linked against and tested in (scripts/make-meshlab-root.sh; needs root);
 #   - .venv/ with pymeshlab (the MeshLab the double-precision plugin runs in), pytest, numpy and
-#     auditwheel (it reports the pip package's platform tag), libigl (SLIM, a bench peer).
+#     auditwheel (it reports the pip package's platform tag), libigl (SLIM, a bench peer);
+#   - .venv-pymeshlab-VERSION/ for each older pymeshlab of meshlab-builds.tsv (pipelines pin them).
 #
 #   SDP_SKIP_APT=1     skip the Debian packages (e.g. when not root and they are already there)
 #   SDP_SKIP_ROOTS=1   skip the Debian roots (their plugins then link unchecked, their tests skip)
@@ -66,15 +67,22 @@ fi
 # Debian's own python3 (not a pyenv/conda one first in PATH): python3-venv is installed for it.
 python=/usr/bin/python3
 [[ -x "$python" ]] || python=$(command -v python3)
-if [[ ! -x "$venv_dir/bin/python" ]]; then
-  echo "install-deps: creating $venv_dir"
-  "$python" -m venv "$venv_dir"
-fi
-if "$venv_dir/bin/python" - "${python_requirements[@]}" <<'PY'
+# make_venv DIR REQUIREMENT...: a virtual environment holding the requirements (pinned ones at
+# their version), made or completed only when something is missing.
+make_venv() {
+  local dir=$1
+  shift
+  if [[ ! -x "$dir/bin/python" ]]; then
+    echo "install-deps: creating $dir"
+    "$python" -m venv "$dir"
+  fi
+  if "$dir/bin/python" - "$@" <<'PY'
+import re
 import sys
 from importlib.metadata import version, PackageNotFoundError
 for requirement in sys.argv[1:]:
-    name, _, wanted = requirement.partition("==")
+    name = re.split(r"[<>=!]", requirement, 1)[0]
+    wanted = requirement.partition("==")[2]
     try:
         have = version(name)
     except PackageNotFoundError:
@@ -82,9 +90,25 @@ for requirement in sys.argv[1:]:
     if wanted and have != wanted:
         sys.exit(1)
 PY
-then
-  echo "install-deps: python packages already installed in $venv_dir"
-else
-  "$venv_dir/bin/python" -m pip install --disable-pip-version-check "${python_requirements[@]}"
-fi
+  then
+    echo "install-deps: python packages already installed in $dir"
+  else
+    "$dir/bin/python" -m pip install --disable-pip-version-check "$@"
+  fi
+}
+make_venv "$venv_dir" "${python_requirements[@]}"
+
+# One more per older pymeshlab that pipelines pin (runs_in pymeshlab-VERSION of
+# meshlab-builds.tsv): that wheel, pytest, numpy and the row's extra requirements (numpy<2 for
+# 2022.2). pip keeps the downloaded wheels in its cache, so a re-run downloads nothing.
+source "$repo_dir/scripts/meshlab-builds.sh"
+while IFS=$'\t' read -r -u 3 _folder _version _api _scalar runs_in _tarball _sha256 _deb extras _rest; do
+  [[ $runs_in == pymeshlab-* ]] || continue
+  requirements=("pymeshlab==${runs_in#pymeshlab-}" pytest numpy)
+  if [[ $extras != - ]]; then
+    IFS=, read -ra more <<<"$extras"
+    requirements+=("${more[@]}")
+  fi
+  make_venv "$repo_dir/.venv-$runs_in" "${requirements[@]}"
+done 3< <(meshlab_pymeshlab_builds)
 echo "install-deps: done"

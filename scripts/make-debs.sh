@@ -39,7 +39,7 @@ mkdir -p "$out_dir"
 source "$repo_dir/scripts/meshlab-builds.sh"
 packaged=$(meshlab_builds | awk -F'\t' '$8 != "-"')
 all_packages=$(cut -f8 <<<"$packaged" | sed 's/^/straightest-param-/')
-while IFS=$'\t' read -r -u 3 folder meshlab_version _api _scalar _runs_in _tarball _sha256 suffix _extras where; do
+while IFS=$'\t' read -r -u 3 folder meshlab_version _api _scalar _runs_in _tarball _sha256 suffix _extras where _source; do
   package="straightest-param-$suffix"
   plugin="$build_dir/plugins/$folder/libfilter_straightest_param.so"
   [[ -f "$plugin" ]] || { echo "make-debs: $plugin missing (cmake --build $build_dir)" >&2; exit 1; }

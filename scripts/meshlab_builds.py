@@ -12,7 +12,7 @@ import sys
 REPO = pathlib.Path(__file__).resolve().parent.parent
 BEGIN, END = "<!-- table:meshlab-builds -->\n", "<!-- /table:meshlab-builds -->"
 COLUMNS = ["folder", "version", "api", "scalar", "runs_in", "tarball", "sha256", "deb",
-           "root_extras", "users_get_it"]
+           "root_extras", "users_get_it", "source"]
 API_NAMES = {"mesh_filter_interface": "MeshFilterInterface", "filter_plugin": "FilterPlugin"}
 
 
@@ -35,6 +35,9 @@ def tested_here(build):
                 "(`tests/meshlab`, `tests/robustness`)")
     if where == "pymeshlab":
         return "yes, pytest inside real pymeshlab (`tests/python`)"
+    if where.startswith("pymeshlab-"):
+        return (f"yes, pytest inside real pymeshlab {where[len('pymeshlab-'):]} in a virtual "
+                f"environment of its own (`.venv-{where}`), and the wheel beside it")
     return (f"yes, in a Debian {where} root (`scripts/make-meshlab-root.sh {where}`): GUI under "
             "Xvfb and the headless harness (`tests/meshlab_roots`)")
 
@@ -42,18 +45,22 @@ def tested_here(build):
 def package(build):
     if build["deb"] != "-":
         return f"`straightest-param-{build['deb']}` (.deb)"
-    if build["runs_in"] == "pymeshlab":
+    if build["runs_in"].startswith("pymeshlab"):
         return "`pymeshlab_straightest` (wheel)"
     return "–"
 
 
 def markdown():
-    lines = ["| MeshLab | where users get it | plugin API | precision | plugin folder in "
-             "`build/plugins/` | package | tested here |",
-             "| --- | --- | --- | --- | --- | --- | --- |"]
+    lines = ["| MeshLab | where users get it | plugin API | precision | compiled against | "
+             "plugin folder in `build/plugins/` | package | tested here |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for b in builds():
+        source = (f"{b['source']} sources" if b["source"] == b["version"] else
+                  f"{b['source']} sources, declaring {b['version']} (same plugin API; Debian has "
+                  f"no {b['version']} source)")
         lines.append(f"| {b['version']} | {b['users_get_it']} | {API_NAMES[b['api']]} | "
-                     f"{b['scalar']} | `{b['folder']}` | {package(b)} | {tested_here(b)} |")
+                     f"{b['scalar']} | {source} | `{b['folder']}` | {package(b)} | "
+                     f"{tested_here(b)} |")
     return "\n".join(lines) + "\n"
 
 

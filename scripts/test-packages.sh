@@ -4,7 +4,8 @@
 #      row of meshlab-builds.tsv: on this machine (host) or in its suite's Debian root
 #      (scripts/make-meshlab-root.sh);
 #   2. scripts/make-wheel.sh, then tests/packages/wheel_test.py in a fresh virtual environment
-#      where only `pip install <wheel>` ran (it brings pymeshlab 2025.7.post1 from PyPI).
+#      where only `pip install <wheel>` ran (it brings pymeshlab 2025.7.post1 from PyPI), and in
+#      one per older pymeshlab of meshlab-builds.tsv, installed before the wheel.
 # Not inside ctest on purpose: the host case installs into this machine's MeshLab for a moment,
 # which the meshlabserver and GUI tests (possibly run in parallel by ctest -j) must not see.
 #
@@ -62,8 +63,22 @@ wheel=$(bash "$repo_dir/scripts/make-wheel.sh" "$build_dir" "$build_dir/wheels")
 venv="$out/wheel-venv"
 run_case wheel_fresh_venv bash -c '
   "$1" -m venv "$2" && "$2/bin/python" -m pip install --disable-pip-version-check -q "$3" &&
-  "$2/bin/python" "$4/tests/packages/wheel_test.py" --wheel "$3" --out "$5/wheel"' \
+  "$2/bin/python" "$4/tests/packages/wheel_test.py" --wheel "$3" --out "$5/wheel" \
+    --pymeshlab 2025.7.post1' \
   sh "$python" "$venv" "$wheel" "$repo_dir" "$out"
+# Beside each older pymeshlab a pipeline has pinned (installed first, with its row's extras).
+while IFS=$'\t' read -r -u 3 _folder _version _api _scalar runs_in _tarball _sha256 _deb extras _rest; do
+  [[ $runs_in == pymeshlab-* ]] || continue
+  pinned=${runs_in#pymeshlab-}
+  requirements="pymeshlab==$pinned"
+  [[ $extras == - ]] || requirements="$requirements ${extras//,/ }"
+  run_case "wheel_beside_$runs_in" bash -c '
+    "$1" -m venv "$2" && "$2/bin/python" -m pip install --disable-pip-version-check -q $6 &&
+    "$2/bin/python" -m pip install --disable-pip-version-check -q "$3" &&
+    "$2/bin/python" "$4/tests/packages/wheel_test.py" --wheel "$3" --out "$5/wheel-$7" \
+      --pymeshlab "$7"' \
+    sh "$python" "$out/wheel-venv-$runs_in" "$wheel" "$repo_dir" "$out" "$requirements" "$pinned"
+done 3< <(meshlab_pymeshlab_builds)
 
 echo "test-packages: $(( $(ls "$out"/*.log | wc -l) - failures )) cases passed, $failures failed"
 [[ $failures -eq 0 ]]

@@ -57,6 +57,16 @@ if [[ "${SDP_SKIP_ROOTS:-0}" != 1 ]]; then
   fi
 fi
 
+# The vcglib adapter tests: one group (ctest prefix vcg<version>.) per MeshLab source tree of the
+# table, each built against that tree's vcglib; a missing source must not pass as fewer tests.
+vcglib_versions=$(meshlab_sources | wc -l)
+vcglib_groups=$(cd "$build_dir" && ctest -N -L vcg_adapters |
+  sed -n 's/^ *Test *#[0-9]*: vcg\([0-9_]*\)\..*/\1/p' | sort -u | wc -l)
+if [[ "$vcglib_groups" -lt "$vcglib_versions" ]]; then
+  echo "test.sh: $vcglib_groups vcglib adapter test groups registered, want $vcglib_versions (one per MeshLab source of meshlab-builds.tsv): see the configure warnings" >&2
+  exit 1
+fi
+
 run_ctest() { (cd "$build_dir" && ctest --output-on-failure --timeout 900); }
 stage "ctest" run_ctest
 [[ "${SDP_QUICK:-0}" == 1 ]] && exit 0

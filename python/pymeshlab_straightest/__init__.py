@@ -1,4 +1,6 @@
-"""The straightest-distance parameterization filters for pymeshlab 2025.7.
+"""The straightest-distance parameterization filters for pymeshlab 2025.7.post1, 2023.12.post3 and
+2022.2.post4 (the package carries a plugin built for each and loads the one for the pymeshlab
+installed; any other release is refused at import with the reason).
 
     import pymeshlab
     import pymeshlab_straightest  # loads the plugin, binds the MeshSet method
@@ -7,8 +9,8 @@
     ms.load_new_mesh("patch.off")
     report = ms.compute_texcoord_parametrization_straightest_distances()
 
-Importing loads the MeshLab 2025.07 (double precision) plugin that ships in this package into
-pymeshlab and binds ``MeshSet.compute_texcoord_parametrization_straightest_distances``, which
+Importing loads the plugin for the installed pymeshlab (MeshLab 2025.07, 2023.12 or 2022.02,
+double precision) into pymeshlab and binds ``MeshSet.compute_texcoord_parametrization_straightest_distances``, which
 takes the filter's parameters as keywords (``weights``, ``boundary``, ``sourcevertex``,
 ``stretchiterations``, ``selectedonly``, ``texturename``, ``checkers``, ``texturesize``) and
 returns the report dict (``l2_stretch``, ``linf_stretch``, ``flipped_faces``, ``fallbacks``,
@@ -20,8 +22,13 @@ It also binds ``MeshSet.compute_texcoord_parametrization_straightest_distances_a
 of any mesh (closed, any genus, many pieces): keywords ``texturesize``, ``gutter``,
 ``chartstretch``, ``stretchiterations``, ``refinementwork``, ``selectedonly``, ``texturename``,
 ``checkers``; it returns ``charts``, ``seam``, ``packing_efficiency``, ``l2_stretch``,
-``linf_stretch``, ``flipped_faces``, ``overlapping_charts``, ``seconds``, and the chart of each
-face is ``ms.current_mesh().face_custom_scalar_attribute_array("chart")``.
+``linf_stretch``, ``flipped_faces``, ``overlapping_charts``, ``seconds``,
+``faces_against_chart`` (faces wound against their neighbours, charted turned over), and the
+chart of each face is ``ms.current_mesh().face_custom_scalar_attribute_array("chart")``.
+
+Both dicts also hold ``polygons_as_triangles`` (True when the mesh was read from polygons: it is
+then saved as the triangles that carry the map, since MeshLab's polygonal export drops per-wedge
+texture coordinates) and ``notes``, a list of sentences saying what those counts mean.
 
 Batches: in pymeshlab 2025.7, a loop that catches a filter's exception and goes on to a new
 ``MeshSet`` crashes the interpreter at the next load (upstream PyMeshLab issue #399). The cause:
@@ -45,6 +52,7 @@ Keep such a loop in one thread (pymeshlab's logger is process-wide), and start a
 ``MeshSet`` after a refusal rather than filtering the refused one again.
 """
 import os
+from importlib.metadata import version as _installed_version
 
 import numpy as np
 import pymeshlab
@@ -53,8 +61,26 @@ from ._version import VERSION as __version__  # noqa: F401
 
 FILTER_NAME = "compute_texcoord_parametrization_straightest_distances"
 ATLAS_FILTER_NAME = FILTER_NAME + "_atlas"
-PLUGIN_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                           "libfilter_straightest_param.so")
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _plugin_for_installed_pymeshlab():
+    """The plugin built for the pymeshlab installed; ImportError naming the releases served."""
+    try:
+        from ._plugins import PLUGINS
+    except ImportError:
+        raise ImportError("pymeshlab_straightest: the package has no plugins (it was built from "
+                          "python/ alone; scripts/make-wheel.sh makes the wheel)") from None
+    installed = _installed_version("pymeshlab")
+    if installed not in PLUGINS:
+        raise ImportError(
+            "pymeshlab_straightest: pymeshlab %s is not served: MeshLab loads only a plugin built "
+            "for its own version, and this package has plugins for pymeshlab %s; "
+            "pip install pymeshlab==%s" % (installed, ", ".join(sorted(PLUGINS)), max(PLUGINS)))
+    return os.path.join(HERE, PLUGINS[installed][1])
+
+
+PLUGIN_PATH = _plugin_for_installed_pymeshlab()
 
 # MeshSets whose run of our filter raised: pymeshlab may still hold pointers into their logs
 # until our filter next succeeds, so they must outlive the caller's references.
@@ -70,6 +96,23 @@ def _reset_pymeshlab_logging():
     scratch.apply_filter("set_selection_none")
 
 
+def _notes(report):
+    """What MeshLab's log says beside the numbers, for the dict's `notes` (pymeshlab hands only
+    numbers on from a filter, so the plugin gives counts and they are worded here)."""
+    notes = []
+    if report.get("polygons_as_triangles"):
+        notes.append("the mesh's polygons are saved as the triangles that carry the map: "
+                      "MeshLab's polygonal export (save_polygonal=True, the export dialog's "
+                      "Polygonal box) drops per-wedge texture coordinates, so it is turned off "
+                      "for this mesh")
+    if report.get("faces_against_chart"):
+        notes.append("%d faces are wound against their neighbours: charted as the surface runs, "
+                     "their texture triangles run clockwise; "
+                     "ms.meshing_re_orient_faces_coherently() fixes the winding"
+                     % report["faces_against_chart"])
+    return notes
+
+
 def _bound(filter_name, doc):
     def run(self, **parameters):
         try:
@@ -83,6 +126,7 @@ def _bound(filter_name, doc):
             raise
         # Success reset both of pymeshlab's loggers: the refused MeshSets may go.
         _refused_mesh_sets.clear()
+        report["notes"] = _notes(report)
         return report
     run.__name__ = filter_name
     run.__doc__ = doc

@@ -1,5 +1,5 @@
 // The vcg adapters on a plain vcglib mesh with optional (ocf) components, like MeshLab's CMeshO:
-// built once against MeshLab 2020.09's vcglib and once against 2025.07's.
+// built once against the vcglib of each MeshLab version in meshlab-builds.tsv.
 #include <gtest/gtest.h>
 
 #include <vcg/complex/complex.h>

@@ -4,10 +4,14 @@ where only `pip install pymeshlab_straightest-*.whl` ran (scripts/test-packages.
 
 Checks:
   import   `import pymeshlab_straightest` binds
-           MeshSet.compute_texcoord_parametrization_straightest_distances, and pymeshlab is
-           2025.7.post1, installed as the wheel's dependency;
+           MeshSet.compute_texcoord_parametrization_straightest_distances, and pymeshlab is the
+           release asked for (--pymeshlab: 2025.7.post1 installed as the wheel's dependency, or
+           an older one installed before it), whose own plugin was loaded;
   snippet  the README's package snippet, verbatim, in a folder holding a copy of the demo mesh:
            no load_plugin or bind lines, a report with 0 flipped faces, an OBJ with per-wedge UVs;
+  notes    a quad mesh and a randomly wound one: the dict's `notes` name save_polygonal and
+           the re-orienting filter, and save_current_mesh's defaults keep the texture
+           coordinates on every (triangle) face;
   batch    50 meshes, good and bad mixed (a fixed shuffle), each loaded from a file into a new
            MeshSet and filtered in one process, catching the refusals, as a batch script does
            (pymeshlab 2025.7 crashes such a loop by itself: see the package's docstring). Run in
@@ -73,6 +77,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--wheel", required=True)
     parser.add_argument("--out", required=True)
+    parser.add_argument("--pymeshlab", default="2025.7.post1",
+                        help="the pymeshlab release the environment holds")
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     shutil.rmtree(out, ignore_errors=True)
@@ -83,12 +89,25 @@ def main():
     import pymeshlab
     import pymeshlab_straightest
 
-    check(metadata.version("pymeshlab") == "2025.7.post1",
-          "pymeshlab %s came with the wheel" % metadata.version("pymeshlab"))
+    check(metadata.version("pymeshlab") == args.pymeshlab,
+          "pymeshlab %s is installed beside the wheel" % metadata.version("pymeshlab"))
+    check(pathlib.Path(pymeshlab_straightest.PLUGIN_PATH).parent.name == args.pymeshlab,
+          "the plugin loaded is the one built for it: %s" % pymeshlab_straightest.PLUGIN_PATH)
     check(pathlib.Path(pymeshlab_straightest.__file__).resolve().parents[1]
           != REPO / "python", "pymeshlab_straightest is the installed one, not the source folder")
     check(callable(getattr(pymeshlab.MeshSet, pymeshlab_straightest.FILTER_NAME, None)),
           "import pymeshlab_straightest binds MeshSet.%s" % pymeshlab_straightest.FILTER_NAME)
+
+    # A release it has no plugin for is refused at import, with the releases it serves.
+    refusal = subprocess.run([sys.executable, "-c", (
+        "import importlib.metadata as m\n"
+        "real = m.version\n"
+        "m.version = lambda name: '2024.1' if name == 'pymeshlab' else real(name)\n"
+        "import pymeshlab_straightest\n")], capture_output=True, text=True, timeout=120)
+    last = (refusal.stderr.strip().splitlines() or [""])[-1]
+    check(refusal.returncode != 0 and "ImportError" in last and "pymeshlab 2024.1 is not served"
+          in last and "2022.2.post4" in last, "another pymeshlab release is refused at import: "
+          + last)
 
     # --- the README snippet -----------------------------------------------------------------
     text = (REPO / "README.md").read_text()
@@ -108,6 +127,28 @@ def main():
     objs = list(folder.glob("*.obj"))
     check(len(objs) == 1 and any(line.startswith("vt ") for line in objs[0].read_text().split("\n")),
           "the snippet saved an OBJ with texture coordinates")
+
+    # --- notes: a quad torus wound at random saved with pymeshlab's defaults ----------------
+    folder = out / "notes"
+    folder.mkdir()
+    for name in ("torus_quads.off", "torus_random_winding.off"):
+        shutil.copy(REPO / "resources" / "meshes" / "inputs" / name, folder)
+        ms = pymeshlab.MeshSet()
+        ms.load_new_mesh(str(folder / name))
+        report = ms.compute_texcoord_parametrization_straightest_distances_atlas(texturesize=512)
+        check(isinstance(report.get("notes"), list), "%s: the dict has `notes`" % name)
+        polygonal = name == "torus_quads.off"
+        check(any("save_polygonal" in note for note in report["notes"]) == polygonal,
+              "%s: the notes name save_polygonal only for the polygon mesh" % name)
+        check(any("meshing_re_orient_faces_coherently" in note for note in report["notes"])
+              != polygonal, "%s: the notes name the re-orienting filter only when faces were "
+              "wound against their neighbours" % name)
+        ms.save_current_mesh(str(folder / (name + ".obj")))
+        faces = [line.split() for line in (folder / (name + ".obj")).read_text().split("\n")
+                 if line.startswith("f ")]
+        check(faces and all(len(f) == 4 and all(c.count("/") >= 1 and c.split("/")[1]
+                                                for c in f[1:]) for f in faces),
+              "%s: saved with the defaults, every face a triangle with texture coordinates" % name)
 
     # --- the batch ----------------------------------------------------------------------------
     meshes = out / "batch"

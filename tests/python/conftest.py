@@ -2,6 +2,7 @@
 
 Environment (set by ctest, see tests/meshlab/CMakeLists.txt):
   SDP_PLUGIN_2025      the built plugin (default: <repo>/build/plugins/meshlab-2025.07/...)
+  SDP_PLUGIN           the plugin for the pymeshlab running the tests, when it is an older one
   SDP_SHARED_DIR       optional folder with extra meshes in meshes/{disk,invalid} (default:
                        <repo>/../shared); the meshes of resources/meshes are always used
   SDP_REPORT_DIR       where the peer comparison table goes (default: <repo>/build/reports)
@@ -16,7 +17,8 @@ FILTER = "compute_texcoord_parametrization_straightest_distances"
 REPO = pathlib.Path(__file__).resolve().parents[2]
 SHARED = pathlib.Path(os.environ.get("SDP_SHARED_DIR", REPO.parent / "shared"))
 BUNDLED = REPO / "resources" / "meshes"
-PLUGIN = pathlib.Path(os.environ.get(
+# SDP_PLUGIN: the plugin built for this pymeshlab (an older release's); else the 2025.07 one.
+PLUGIN = pathlib.Path(os.environ.get("SDP_PLUGIN") or os.environ.get(
     "SDP_PLUGIN_2025", REPO / "build/plugins/meshlab-2025.07/libfilter_straightest_param.so"))
 REPORT_DIR = pathlib.Path(os.environ.get("SDP_REPORT_DIR", REPO / "build/reports"))
 
