@@ -47,6 +47,15 @@ void CheckedDescent::addWork(double work) {
   budget_.charge(work);
 }
 
+bool CheckedDescent::keepsClearance() {
+  // Decided on the first step's start (after any rescaling by the method): a start already
+  // closer than the clearance (a tiny border edge) keeps the plain simplicity test, so the
+  // refinement never does less than before.
+  if (keeps_clearance_ < 0)
+    keeps_clearance_ = edgesAreSimple(border_, current_, borderClearance(border_, current_));
+  return keeps_clearance_ > 0;
+}
+
 CheckedDescent::Outcome CheckedDescent::tryStep(
     const LocalUVs& direction, double length, int max_halvings,
     const std::function<bool(LocalUVs& candidate, double length)>& admit) {
@@ -62,7 +71,9 @@ CheckedDescent::Outcome CheckedDescent::tryStep(
     if (hasFlippedFace(patch_, candidate_)) continue;
     // The sweep sorts the border edges, then tests the few whose x ranges overlap.
     addWork(20.0 * border_.size() * WorkCosts::kNonzero);
-    if (!edgesAreSimple(border_, candidate_)) continue;
+    if (!edgesAreSimple(border_, candidate_,
+                        keepsClearance() ? borderClearance(border_, candidate_) : 0))
+      continue;
     if (l2_of_) {
       outcome.taken = true;
       outcome.halvings = halvings;

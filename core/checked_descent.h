@@ -69,6 +69,8 @@ class CheckedDescent {
   const Progress& progress_;
   Stage stage_;
   std::vector<BorderEdge> border_;  // the same for every check
+  int keeps_clearance_ = -1;        // -1 undecided; keepsClearance()
+  bool keepsClearance();
   LocalUVs current_, candidate_, best_;
   std::function<double()> l2_of_;    // measureL2By's
   double best_l2_ = 0;               // by l2_of_

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <new>
 
 namespace sdp {
@@ -169,22 +170,44 @@ void arapRightHandSide(const Patch& patch, const std::vector<FlatFace>& flat,
 
 }  // namespace
 
-bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv) {
+// Distance from p to the closed segment ab.
+double pointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                            const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv, double clearance) {
   auto low = [&](const Edge& e) { return std::min(uv[e[0]].x(), uv[e[1]].x()); };
   std::sort(edges.begin(), edges.end(),
             [&](const Edge& a, const Edge& b) { return low(a) < low(b); });
   // Sweep along x: an edge is tested against the later edges whose x range starts before its
-  // own ends (a boundary curve meets few of them).
+  // own ends, grown by the clearance (a boundary curve meets few of them).
   for (size_t i = 0; i < edges.size(); ++i) {
     const Edge& e = edges[i];
-    const double high = std::max(uv[e[0]].x(), uv[e[1]].x());
+    const double high = std::max(uv[e[0]].x(), uv[e[1]].x()) + clearance;
     for (size_t j = i + 1; j < edges.size() && low(edges[j]) <= high; ++j) {
       const Edge& g = edges[j];
       if (e[0] == g[0] || e[0] == g[1] || e[1] == g[0] || e[1] == g[1]) continue;
-      if (segmentsMeet(uv[e[0]], uv[e[1]], uv[g[0]], uv[g[1]])) return false;
+      const Eigen::Vector2d &a = uv[e[0]], &b = uv[e[1]], &c = uv[g[0]], &d = uv[g[1]];
+      if (segmentsMeet(a, b, c, d)) return false;
+      if (clearance > 0 &&
+          std::min({pointSegmentDistance(a, c, d), pointSegmentDistance(b, c, d),
+                    pointSegmentDistance(c, a, b), pointSegmentDistance(d, a, b)}) < clearance)
+        return false;
     }
   }
   return true;
+}
+
+double borderClearance(const std::vector<BorderEdge>& edges, const LocalUVs& uv) {
+  Eigen::Vector2d lowest = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d highest = -lowest;
+  for (const Edge& e : edges)
+    for (int v : e) lowest = lowest.cwiseMin(uv[v]), highest = highest.cwiseMax(uv[v]);
+  return edges.empty() ? 0.0 : kBorderClearance * (highest - lowest).norm();
 }
 
 bool boundaryIsSimple(const Patch& patch, const LocalUVs& uv) {

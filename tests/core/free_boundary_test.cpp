@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
 #include <map>
 #include <random>
 #include <utility>
@@ -61,6 +62,22 @@ TEST(FreeBoundary, BoundaryIsSimpleSeesACrossing) {
   const int moved = patch.boundary_loop.front();
   uv[moved] = -3 * uv[moved];
   EXPECT_FALSE(boundaryIsSimple(patch, uv));
+}
+
+TEST(FreeBoundary, ClearanceSeesABorderAHairsBreadthFromItself) {
+  // A notch whose two sides come within 1e-9 of each other: simple, but no float rounding keeps
+  // it so; with the refinement's clearance it counts as touching.
+  const LocalUVs uv = {{0, 0}, {1, 0}, {1, 1}, {0.5, 1}, {0.5, 1e-9}, {0.4, 1}, {0, 1}};
+  std::vector<BorderEdge> loop;
+  for (int k = 0; k < 7; ++k) loop.push_back({k, (k + 1) % 7});
+  EXPECT_TRUE(edgesAreSimple(loop, uv));
+  const double clearance = borderClearance(loop, uv);
+  EXPECT_NEAR(clearance, kBorderClearance * std::sqrt(2.0), 1e-15);
+  EXPECT_FALSE(edgesAreSimple(loop, uv, clearance));
+  // Opened to a tenth of the square, the notch keeps its clearance.
+  LocalUVs open = uv;
+  open[4].y() = 0.1;
+  EXPECT_TRUE(edgesAreSimple(loop, open, borderClearance(loop, open)));
 }
 
 // camel_b: the convex boundary crushes its boundary fins (fixed-boundary L2 17); letting the
