@@ -103,6 +103,10 @@ options:
   text += "\natlas options (with --atlas):\n";
   text += optionRows(sdp::filter::atlasParameters());
   text += "\n";
+  text += optionHelp("--uv-storage S",
+                     "double, float or float6: make the map one-to-one as that storage holds it "
+                     "(float6 = MeshLab: float in memory, 6 decimals in its OBJ). Default: the "
+                     "output's, float for .ply, double for .obj.");
   text += optionHelp("--report FILE.json", "Also write the report to FILE.json.");
   text += optionHelp("--quiet", "Do not print the report.");
   text += optionHelp("--help", "Show this help.");
@@ -125,7 +129,16 @@ struct Arguments {
   sdp::filter::FilterValues values = sdp::filter::defaultValues();
   bool quiet = false;
   bool atlas = false;  // --atlas: the atlas filter's table and pipeline
+  // --uv-storage: the texture coordinates' storage the map is made one-to-one in; by default the
+  // output's (PLY float, OBJ double). `float6` is MeshLab's (float in memory, 6 decimals in OBJ).
+  std::optional<sdp::UVStorage> storage;
 };
+
+// --uv-storage's names and the core's storages.
+const std::pair<const char*, sdp::UVStorage> kStorageNames[] = {
+    {"double", sdp::UVStorage::Double},
+    {"float", sdp::UVStorage::Float},
+    {"float6", sdp::UVStorage::FloatAndSixDecimals}};
 
 std::string lowercaseExtension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -214,6 +227,12 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
     if (arg == "--report") {
       args.report_path = value();
       if (args.report_path.empty()) throw UsageError("--report needs a file name");
+    } else if (arg == "--uv-storage") {
+      const std::string name = value();
+      for (const auto& [storage_name, storage] : kStorageNames)
+        if (name == storage_name) args.storage = storage;
+      if (!args.storage)
+        throw UsageError("unknown --uv-storage '" + name + "' (expected double, float, float6)");
     } else if (const auto* p = cliParameter(arg, args.atlas);
                p && p->type != sdp::filter::ParameterType::Bool) {
       setParameter(*p, value(), args.values);
@@ -236,6 +255,10 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
   if (out_ext != ".obj" && out_ext != ".ply") {
     throw UsageError("OUT must end in .obj or .ply: " + args.output);
   }
+  // The map is certified in the storage named; PLY's texture coordinates are floats.
+  if (out_ext == ".ply" && args.storage == sdp::UVStorage::Double)
+    throw UsageError(
+        "--uv-storage double needs an .obj OUT (PLY stores texture coordinates as float)");
   return Action::Run;
 }
 
@@ -287,10 +310,15 @@ void writeOutputs(const Arguments& args, const sdp::io::MeshData& mesh, const sd
   if (!args.quiet) std::cout << json << std::flush;
 }
 
+// PLY holds texture coordinates in float, the CLI's OBJ in full double, unless --uv-storage says.
+sdp::UVStorage storageFor(const Arguments& args) {
+  if (args.storage) return *args.storage;
+  return lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
+}
+
 int runAtlas(const Arguments& args, const sdp::io::MeshData& mesh) {
   sdp::atlas::AtlasOptions options = sdp::filter::toAtlasOptions(args.values);
-  options.storage =
-      lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
+  options.storage = storageFor(args);
   sdp::atlas::AtlasResult result = sdp::atlas::makeAtlas(mesh.V, mesh.F, options);
   std::vector<std::string>& notes = result.report.notes;
   notes.insert(notes.begin(), mesh.notes.begin(), mesh.notes.end());
@@ -310,8 +338,7 @@ int run(const Arguments& args) {
   sdp::Options options = sdp::filter::toOptions(args.values);
   options.source_vertex = args.values.source_vertex;  // the file's numbering is the core's
   options.storage.fit_unit_square = !args.values.natural_scale;
-  options.storage.precision =
-      lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
+  options.storage.precision = storageFor(args);
   sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
   sdp::Report& report = result.report;
   report.notes.insert(report.notes.begin(), mesh.notes.begin(), mesh.notes.end());

@@ -543,3 +543,25 @@ TEST_F(CliTest, StlAndTristripsReadAsTheSameMeshAsTheirSource) {
   std::ofstream(dir_ / "m.3ds") << "x";
   expectFailure(run({(dir_ / "m.3ds").string(), outPath("a.ply")}), 2, ".stl");
 }
+
+TEST_F(CliTest, UvStorageChoosesThePrecisionTheMapIsCertifiedIn) {
+  const std::string torus = (kMeshes / "closed" / "torus.off").string();
+  const auto storage = [&](const std::vector<std::string>& extra, const std::string& out) {
+    std::vector<std::string> args = {torus, outPath(out), "--atlas", "--texture-size", "256"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const ToolRun r = run(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return jsonValue(r.out, "storage");
+  };
+  EXPECT_EQ(storage({}, "a.ply"), "\"float\"");  // the output's own
+  EXPECT_EQ(storage({}, "a.obj"), "\"double\"");
+  EXPECT_EQ(storage({"--uv-storage", "float6"}, "b.obj"), "\"float, 6 decimals\"");
+  EXPECT_EQ(storage({"--uv-storage=float"}, "c.obj"), "\"float\"");
+  fs::remove_all(out_);
+  fs::create_directories(out_);
+  expectFailure(run({torus, outPath("e.obj"), "--atlas", "--uv-storage", "half"}), 2,
+                "--uv-storage");
+  // PLY holds floats: a map certified in double would not be one-to-one as stored.
+  expectFailure(run({torus, outPath("d.ply"), "--atlas", "--uv-storage", "double"}), 2,
+                "PLY stores texture coordinates as float");
+}
