@@ -6,8 +6,9 @@
 // Input layout: byte 0 picks the format (off, obj, ply, stl), byte 1 the weights, byte 2 the
 // boundary, byte 3 the refinement steps (0-2); the rest is the file. With bit 7 of byte 3 set, the
 // file goes through the atlas instead (byte 1 picks a small texture size, byte 2 the gutter, bit 6
-// refines the charts), and a stored atlas with a flipped face, a face without a chart, a UV
-// outside [0,1]^2, pixels covered twice or a broken gutter is a finding.
+// refines the charts), and a stored atlas with a flipped face (faces wound against their
+// neighbours measured turned over, as charted), a face without a chart, a UV outside [0,1]^2,
+// pixels covered twice or a broken gutter is a finding.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
@@ -77,8 +78,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         finding("atlas UV not finite or outside the unit square");
       for (int c : layout.chart)
         if (c < 0) finding("atlas face without a chart");
+      // Faces wound against their neighbours are measured as the atlas charted them: turned
+      // over, corners 1 and 2 swapped in the mesh and the layout alike.
+      sdp::Triangles turned = mesh.F;
+      sdp::Layout measured = layout;
+      const std::vector<char> turn = sdp::coherentOrientation(
+          mesh.F, sdp::analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows())));
+      int turned_faces = 0;
+      for (Eigen::Index f = 0; f < turned.rows(); ++f)
+        if (turn[f]) {
+          std::swap(turned(f, 1), turned(f, 2));
+          std::swap(measured.face_uv(f, 1), measured.face_uv(f, 2));
+          ++turned_faces;
+        }
+      if (turned_faces != r.report.faces_against_chart) finding("atlas turned-face count");
       const sdp::atlas::AtlasMeasures m =
-          sdp::atlas::measureAtlas(mesh.V, mesh.F, layout, atlas.texture_size, atlas.gutter);
+          sdp::atlas::measureAtlas(mesh.V, turned, measured, atlas.texture_size, atlas.gutter);
       if (m.flipped_faces != 0 || m.mirrored_charts != 0) finding("atlas flipped or mirrored");
       if (m.overlapping_pixels != 0 || m.gutter_violations != 0)
         finding("atlas pixels covered twice or in a gutter");
