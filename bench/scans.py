@@ -1,0 +1,184 @@
+#!/usr/bin/env python3
+"""Atlases of scan-like meshes, as scanners hand them over before any cleaning (issue: scans).
+
+The meshes are made here from ../shared/meshes/closed models (bench/scan_meshes.py: 1-to-4
+subdivision, Gaussian noise along the normals with sigma = 0.15 x the mean edge length, small
+holes, floating debris quads, vertex colours), seeded, each with its twin without noise (the same
+holes and debris), and cached (never stored in the repository). Every atlas is made by the CLI
+as MeshLab stores texture coordinates (float PLY, `--uv-storage float`) and scored from the file
+(bench/atlas_score.cpp): the hard gates, charts, L2, L-infinity, the report's seconds and stages,
+peak memory, and CPU time over wall time (both cores at work).
+
+    .venv/bin/python bench/scans.py [--build build] [--shared ../shared] [--big]
+                                    [--texture-size 8192] [--peers] [--readme README.md]
+
+Meshes: armadillo x16 (1.38M faces), tuned on; fertility x64 (0.58M faces, genus 4), kept out of
+the tuning and reported apart. --big adds armadillo x64 (5.5M) and cheburashka x1024 (13.7M).
+--peers runs xatlas 0.0.11 on the armadillo x16 scan with a 20-minute limit.
+Writes bench/results/scans.md and, with --readme, the README's bench:scans block."""
+import argparse
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+HERE = pathlib.Path(__file__).resolve().parent
+REPO = HERE.parent
+sys.path.insert(0, str(HERE))
+from atlas import run_with_rusage  # noqa: E402
+from run import replace_block  # noqa: E402
+from scan_meshes import make_scan, write_ply  # noqa: E402
+
+CACHE = pathlib.Path.home() / ".cache" / "straightest-param" / "bench" / "scans"
+# (name, source model, subdivisions, holes, debris, held out of the tuning)
+MESHES = [("armadillo x16", "armadillo.obj", 2, 2000, 200, False),
+          ("fertility x64", "fertility.off", 3, 500, 100, True)]
+BIG = [("armadillo x64", "armadillo.obj", 3, 5000, 500, False),
+       ("cheburashka x1024", "cheburashka.off", 5, 5000, 500, False)]
+SIGMAS = [0.0, 0.15]
+XATLAS_LIMIT = 1200.0
+
+
+def load(path):
+    import pymeshlab
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(path))
+    m = ms.current_mesh()
+    return m.vertex_matrix(), m.face_matrix()
+
+
+def scan_file(shared, name, source, subdivisions, holes, debris, sigma):
+    path = CACHE / f"{name.replace(' ', '_')}_s{sigma:g}.ply"
+    if not path.exists():
+        V, F = load(shared / "meshes" / "closed" / source)
+        SV, SF, colours = make_scan(V, F, subdivisions, sigma, holes, debris, seed=1)
+        CACHE.mkdir(parents=True, exist_ok=True)
+        write_ply(path, SV, SF, colours)
+    return path
+
+
+def run_ours(args, mesh, folder):
+    out = folder / "ours.ply"
+    report_path = folder / "ours.json"
+    command = [str(args.build / "bin" / "straightest_param"), str(mesh), str(out), "--atlas",
+               "--texture-size", str(args.texture_size), "--uv-storage", "float", "--quiet",
+               "--report", str(report_path)]
+    started = time.monotonic()
+    before = os.times()
+    _, err, code, peak_mb = run_with_rusage(command)
+    wall = time.monotonic() - started
+    after = os.times()
+    cpu = (after.children_user - before.children_user) + (after.children_system -
+                                                          before.children_system)
+    row = {"peak_mb": peak_mb, "wall": wall, "cpu_over_wall": cpu / wall if wall > 0 else 0}
+    if code != 0:
+        row["failed"] = (err.strip().splitlines() or [f"exit {code}"])[-1][:200]
+        return row
+    report = json.loads(report_path.read_text())
+    row.update({k: report[k] for k in ("charts", "charts_split", "l2_stretch", "linf_stretch",
+                                        "seconds", "faces", "components")})
+    row["stage_seconds"] = report.get("stage_seconds", {})
+    score = subprocess.run([str(args.build / "bin" / "sdp_atlas_score"), str(out),
+                            str(args.texture_size), "2"], capture_output=True, text=True)
+    if score.returncode != 0:
+        row["failed"] = "scorer: " + score.stderr.strip()[:150]
+        return row
+    row["scored"] = json.loads(score.stdout)
+    out.unlink()  # hundreds of MB at the big sizes
+    return row
+
+
+def gates_ok(scored):
+    return all(scored.get(k) == 0 for k in ("flipped_faces", "mirrored_charts",
+                                            "overlapping_pixels", "gutter_violations",
+                                            "outside_faces", "uncharted_faces"))
+
+
+def fmt_row(name, sigma, row):
+    if "failed" in row:
+        return (f"| {name} | {sigma:g} | – | refused: {row['failed']} | – | – | – | "
+                f"{row['wall']:.1f} | {row['peak_mb']:.0f} | – |")
+    s = row["scored"]
+    stages = ", ".join(f"{k} {v:.1f}" for k, v in row["stage_seconds"].items())
+    return (f"| {name} | {sigma:g} | {row['faces']:,} | "
+            f"{'yes' if gates_ok(s) else 'NO'} | {row['charts']} | {s['l2']:.4f} | "
+            f"{s['linf']:.2f} | {row['seconds']:.1f} ({stages}) | {row['peak_mb']:.0f} | "
+            f"{row['cpu_over_wall']:.2f} |")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--build", type=pathlib.Path, default=REPO / "build")
+    parser.add_argument("--shared", type=pathlib.Path, default=REPO.parent / "shared")
+    parser.add_argument("--big", action="store_true")
+    parser.add_argument("--peers", action="store_true")
+    parser.add_argument("--texture-size", type=int, default=8192)
+    parser.add_argument("--readme")
+    parser.add_argument("--only", help="comma-separated mesh names")
+    args = parser.parse_args()
+    meshes = MESHES + (BIG if args.big else [])
+    if args.only:
+        meshes = [m for m in meshes if m[0] in args.only.split(",")]
+    work = CACHE / "runs"
+    lines = [f"Scan-like meshes (bench/scans.py; texture {args.texture_size}², gutter 2, float "
+             "texture coordinates as MeshLab stores them; seconds are the report's, without file "
+             "I/O; CPU/wall over the whole process):", "",
+             "| mesh | noise σ | faces | every hard gate | charts | L2 | L∞ | seconds (stages) | "
+             "peak MB | CPU / wall |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    held_out = []
+    charts = {}
+    for name, source, subdivisions, holes, debris, out_of_tuning in meshes:
+        for sigma in SIGMAS:
+            mesh = scan_file(args.shared, name, source, subdivisions, holes, debris, sigma)
+            folder = work / f"{name.replace(' ', '_')}_s{sigma:g}"
+            folder.mkdir(parents=True, exist_ok=True)
+            row = run_ours(args, mesh, folder)
+            charts[(name, sigma)] = row.get("charts")
+            line = fmt_row(name, sigma, row)
+            print(line, flush=True)
+            (held_out if out_of_tuning else lines).append(line)
+    if held_out:
+        lines += ["", "Kept out of the tuning:", "", lines[2], lines[3]] + held_out
+    ratios = [f"{name} {charts[(name, 0.15)] / charts[(name, 0.0)]:.2f}×"
+              for name, *_ in meshes
+              if charts.get((name, 0.15)) and charts.get((name, 0.0))]
+    if ratios:
+        lines += ["", "Charts with noise over charts without (same holes and debris): " +
+                  ", ".join(ratios) + " (target ≤ 1.5×)."]
+    if args.peers:
+        name, source, subdivisions, holes, debris, _ = MESHES[0]
+        mesh = scan_file(args.shared, name, source, subdivisions, holes, debris, 0.15)
+        off = CACHE / "armadillo_x16_s0.15.off"
+        if not off.exists():
+            from atlas import write_off
+            V, F = load(mesh)
+            write_off(off, V, F)
+        out_obj = work / "xatlas.obj"
+        command = [str(REPO / ".venv" / "bin" / "python"), str(HERE / "atlas_peers.py"),
+                   "xatlas", str(off), str(out_obj), str(args.texture_size), "2"]
+        started = time.monotonic()
+        out, err, code, peak_mb = run_with_rusage(command, timeout=XATLAS_LIMIT)
+        wall = time.monotonic() - started
+        said = "stopped at the 20-minute limit" if code == -9 else (
+            f"{wall:.0f} s, exit {code}")
+        lines += ["", f"xatlas 0.0.11 on {name} with noise: {said}."]
+    body = "\n".join(lines)
+    results = HERE / "results"
+    results.mkdir(exist_ok=True)
+    (results / "scans.md").write_text(body + "\n")
+    print(body)
+    if args.readme:
+        readme = pathlib.Path(args.readme)
+        text = readme.read_text()
+        if "<!-- bench:scans -->" not in text:
+            sys.exit(f"scans.py: {readme} has no <!-- bench:scans --> block")
+        readme.write_text(replace_block(text, "scans", body))
+
+
+if __name__ == "__main__":
+    main()
