@@ -6,21 +6,10 @@ with noise and its twin without (sigma = 0) share their holes and debris.
     make_scan(V, F, subdivisions, sigma, holes, debris, seed) -> (V, F, colours)
     write_ply(path, V, F, colours)       binary PLY, float positions, uchar colours
 
-numpy only; used by bench/scans.py."""
+numpy and the atlas bench's subdivision (bench/atlas.py); used by bench/scans.py."""
 import numpy as np
 
-
-def subdivide(V, F):
-    """1-to-4 midpoint subdivision (each edge's midpoint made once)."""
-    edges = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    unique, inverse = np.unique(edges, axis=0, return_inverse=True)
-    mid = len(V) + inverse.reshape(3, -1).T  # per face: midpoints of edges 01, 12, 20
-    V2 = np.concatenate([V, 0.5 * (V[unique[:, 0]] + V[unique[:, 1]])])
-    a, b, c = F[:, 0], F[:, 1], F[:, 2]
-    m01, m12, m20 = mid[:, 0], mid[:, 1], mid[:, 2]
-    F2 = np.concatenate([np.stack(t, 1) for t in
-                         ([a, m01, m20], [m01, b, m12], [m20, m12, c], [m01, m12, m20])])
-    return V2, F2.astype(np.int64)
+from atlas import subdivide  # 1-to-4 midpoint subdivision, as the atlas bench's big model
 
 
 def vertex_normals(V, F):
@@ -82,6 +71,7 @@ def make_scan(V, F, subdivisions, sigma, holes, debris_count, seed):
     F = np.asarray(F, dtype=np.int64)
     for _ in range(subdivisions):
         V, F = subdivide(V, F)
+    F = F.astype(np.int64)
     edge = mean_edge(V, F)
     noise_rng, hole_rng, debris_rng = (np.random.default_rng([seed, k]) for k in range(3))
     if sigma > 0:

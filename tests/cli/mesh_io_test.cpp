@@ -640,9 +640,9 @@ TEST(StlReader, NamesTruncationAndBadTokens) {
 }
 
 TEST(PlyReader, ReadsTristripsWithRestartsAndAlternatingWinding) {
-  // A strip over a 2 x 1 grid of squares (0..5, bottom row 0 1 2, top row 3 4 5): 0 3 1 4 2 5
-  // gives (0,3,1), (1,3,4)... every triangle wound the same way; -1 restarts; the join
-  // 5 5 is degenerate and dropped.
+  // Two strips over a 2 x 1 grid of squares (bottom row 0 1 2, top row 3 4 5): 0 1 3 4, then
+  // after the -1 restart 1 2 4 5, each giving two triangles wound the same way (the second's
+  // first two corners swapped).
   const std::string ply =
       "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
       "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
