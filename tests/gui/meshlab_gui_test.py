@@ -40,10 +40,12 @@ layout.json (where the menus, the dialog and the 3D view were on screen).
 
 With --filter atlas the same steps and checks run the atlas filter ("Parametrization:
 Straightest Distances Atlas", on a closed mesh; its log line "charts N, ..., flipped_faces 0" and
-its texture straightest_atlas.png).
+its texture straightest_atlas.png). With --export NAME.obj the mesh is then saved as a user saves
+it, File -> Export Mesh As with the defaults of both dialogs (05_export_file.png,
+06_export_options.png), and the OBJ is checked on its own (tests/meshlab/check_obj_uv.py).
 usage: meshlab_gui_test.py --plugin libfilter_straightest_param.so --mesh disk.off --out DIR
                            [--prefix DIR | --root DIR --meshlab-version 2022.02|2025.07]
-                           [--filter patch|atlas]
+                           [--filter patch|atlas] [--export NAME.obj]
 Python standard library only, plus the Xvfb, xdotool, xwininfo and ImageMagick (import, convert)
 command-line tools. Exit status 0 = pass, 1 = a check failed, 2 = a tool is missing.
 """
@@ -636,6 +638,9 @@ def run_test(args, gui):
                           % (fmt(after), fmt(before)))
     passed("render", "checkerboard: %s (before: %s)" % (fmt(after), fmt(before)))
 
+    if args.export:
+        export_mesh(args, gui, workdir)
+
     # --- quit -------------------------------------------------------------------------------
     gui.focus(gui.main)
     gui.key("ctrl+q")
@@ -653,6 +658,41 @@ def run_test(args, gui):
         time.sleep(0.2)
     passed("quit", "MeshLab exited with status %d after Ctrl+Q%s"
            % (gui.meshlab.returncode, " and Yes to the save prompt" if answered else ""))
+
+
+def export_mesh(args, gui, workdir):
+    """File -> Export Mesh As (Ctrl+Shift+E, mainwindow_Init.cpp), a file name typed into Qt's
+    save dialog, and the saving options dialog accepted with its defaults (OK is its default
+    button), as a user saves. The file is then checked on its own: every face has per-wedge
+    texture coordinates, none is flipped or degenerate in UV (tests/meshlab/check_obj_uv.py)."""
+    exported = os.path.join(workdir, args.export)
+    inside = exported[len(args.root):] if args.root else exported
+    gui.focus(gui.main)
+    gui.key("ctrl+shift+e")
+    save = gui.wait_window(r'^Save ".*" Layer$')[0]
+    gui.screenshot("05_export_file.png")
+    gui.focus(save)
+    # The file name field has the focus and holds the mesh's own name, selected.
+    gui.key("ctrl+a", "BackSpace")
+    gui.run("xdotool", "type", "--delay", "20", inside)
+    gui.key("Return")
+    options = gui.wait_window(r"^Choose Saving Options for")[0]
+    gui.screenshot("06_export_options.png")
+    gui.focus(options)
+    gui.key("Return")
+    gui.wait_for("the saving options dialog to close",
+                 lambda: not gui.windows(r"^Choose Saving Options for"))
+    gui.wait_for("'Saved Mesh' in meshlab.log",
+                 lambda: re.search(r"Saved Mesh .*%s" % re.escape(args.export), gui.log_text()))
+    check = subprocess.run([sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                         "..", "meshlab", "check_obj_uv.py"),
+                            exported] + (["--atlas"] if args.filter == "atlas" else []),
+                           capture_output=True, text=True, timeout=gui.remaining(60))
+    shutil.copyfile(exported, os.path.join(args.out, args.export))
+    if check.returncode != 0:
+        raise CheckFailed("the exported %s: %s" % (args.export, (check.stdout + check.stderr).strip()))
+    passed("export", "%s saved with the export dialog's defaults: %s"
+           % (args.export, check.stdout.strip().splitlines()[-1] if check.stdout.strip() else "ok"))
 
 
 def largest_child(gui, window):
@@ -680,6 +720,9 @@ def main():
     parser.add_argument("--root", help="a Debian root with a newer MeshLab (scripts/make-meshlab-root.sh)")
     parser.add_argument("--meshlab-version", choices=sorted(TEXTURE_FILTERS), default="2020.09",
                         help="the MeshLab version under test (2022.02 and 2025.07 need --root)")
+    parser.add_argument("--export", metavar="NAME.obj",
+                        help="after Apply, save the mesh as NAME.obj through File -> Export Mesh "
+                        "As with the dialogs' defaults, and check the file's per-wedge UVs")
     parser.add_argument("--install", choices=("user", "system"), default="user",
                         help="with --root: the per-user plugin folder of a fresh HOME, or the "
                         "root's system folder (removed again at the end)")
