@@ -341,6 +341,9 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
   // Packed into a strip as wide as the texture, the used height grows about as the scale: each
   // try aims at the height of the texture from the last, between the largest scale that fit and
   // the smallest that did not.
+  // A fit that fills all but kFullEnough of the height is kept: the next try would aim under 1%
+  // higher and cost a whole pack (seconds at a million faces; 8 more tries were seen, for 0.2%).
+  constexpr double kFullEnough = 0.02;
   std::vector<Placement> trial(charts.size());
   double fits = 0, fails = std::numeric_limits<double>::infinity(), scale = aim;
   for (int attempt = 0; attempt < 10 && fails > 1.005 * fits; ++attempt) {
@@ -349,6 +352,7 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
     if (height <= size) {
       fits = scale;
       placements = trial;
+      if (height >= (1 - kFullEnough) * size) break;
     } else {
       fails = scale;
       if (must_beat && fits == 0) return 0;
