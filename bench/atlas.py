@@ -249,6 +249,10 @@ def summary(rows_by_model):
     return "\n".join(lines) + "\n"
 
 
+BIG_TARGET_SECONDS = 15.0
+BIG_TARGET_MB = 6144
+
+
 def big_summary(rows_by_model):
     """The 1.38M-face model against its targets, and where our time goes (what limits it)."""
     big = [(model, rows) for model, rows in rows_by_model if model.startswith("armadillo x16")]
@@ -257,14 +261,17 @@ def big_summary(rows_by_model):
     model, rows = big[0]
     by = {r["method"]: r for r in rows}
     ours = by.get("ours", {"failed": "not run"})
-    lines = ["", f"{model}, targets ≤ 60 s and ≤ 4096 MB:", ""]
+    # The scans issue's targets: 1.2M faces in 15 s; 6 GB is its bound for 13M faces.
+    lines = ["", f"{model}, targets ≤ {BIG_TARGET_SECONDS:g} s and ≤ {BIG_TARGET_MB} MB:", ""]
     if "failed" in ours:
         lines.append(f"- this project: failed: {ours['failed']}")
     else:
         stages = list(ours.get("stage_seconds", {}).items())  # the report's {stage: seconds}
         longest = max(stages, key=lambda kv: kv[1]) if stages else None
+        met = ours["seconds"] <= BIG_TARGET_SECONDS and ours["peak_mb"] <= BIG_TARGET_MB
         lines.append(
-            f"- this project: {ours['seconds']:.1f} s, {ours['peak_mb']:.0f} MB, "
+            f"- this project ({'targets met' if met else 'targets NOT met'}): "
+            f"{ours['seconds']:.1f} s, {ours['peak_mb']:.0f} MB, "
             f"{ours['charts']} charts, seam {ours['seam']:.1f}, L2 {ours['l2']:.4f}, "
             f"L∞ {ours['linf']:.3g}, efficiency {ours['efficiency']:.3f}, every hard gate "
             f"{'kept' if hard_gates_ok(ours) else 'NOT kept'}; seconds by stage: " +

@@ -6,8 +6,11 @@ installed command line (build/bin/straightest_param) runs with its defaults thre
 beside a CPU hog (one busy process per core) and on one core (`taskset -c 0`), each writing OBJ and
 PLY (tests/cli/same_bytes.py does the runs and the comparison). A second table sets each stage's
 counted work (report `stage_work`, core/work.h) beside its measured seconds from the quiet run.
+The atlas runs the same three ways on the scans bench's armadillo x16 without noise (1.36M faces,
+bench/scans.py; 8192 texture, float PLY as MeshLab stores it), unless --no-atlas.
 
-    python3 bench/determinism.py [--build build] [--shared ../shared] [--readme README.md]
+    python3 bench/determinism.py [--build build] [--shared ../shared] [--no-atlas]
+                                 [--readme README.md]
 
 Writes bench/results/determinism.md and, with --readme, the README's bench:determinism block.
 """
@@ -21,9 +24,24 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent / "tests" / "cli"))
 from run import replace_block  # noqa: E402
-from same_bytes import differences, three_runs  # noqa: E402
+from same_bytes import ATLAS_SAME_FIELDS, differences, three_runs  # noqa: E402
 
 STAGES = ["topology", "weights", "solve", "metrics", "refine", "free_boundary", "newton"]
+
+
+def atlas_row(args, cli, tmp):
+    from scans import MESHES, scan_file  # numpy and pymeshlab: the bench's environment
+    name, source, subdivisions, holes, debris, _ = MESHES[0]
+    mesh = scan_file(pathlib.Path(args.shared), name, source, subdivisions, holes, debris, 0.0)
+    results = three_runs(cli, mesh, tmp / "atlas", outputs=("atlas.ply",),
+                         options=("--atlas", "--texture-size", "8192"))
+    failures = differences(results, ATLAS_SAME_FIELDS)
+    quiet = results["quiet"][1][0]
+    seconds = " / ".join(f"{reports[0]['seconds']:.1f}" for _, reports in results.values())
+    row = (f"| {name} scan | {quiet['faces']:,} | {quiet['charts']} | {quiet['l2_stretch']:.4f} | "
+           f"{seconds} | {'yes' if not failures else 'NO: ' + '; '.join(failures)} |")
+    print(row, flush=True)
+    return row
 
 
 def main():
@@ -31,6 +49,7 @@ def main():
     parser.add_argument("--build", default="build")
     parser.add_argument("--shared", default=str(HERE.parent.parent / "shared"))
     parser.add_argument("--readme")
+    parser.add_argument("--no-atlas", action="store_true")
     args = parser.parse_args()
     build = pathlib.Path(args.build)
     cli = build / "bin" / "straightest_param"
@@ -65,6 +84,7 @@ def main():
             work_rows.append(f"| {name} | {total_work:.2f} | {total_seconds:.2f} | " +
                              " | ".join(cells) + " |")
             print(same_rows[-1], flush=True)
+        atlas_rows = [] if args.no_atlas else [atlas_row(args, cli, tmp)]
 
     lines = [
         "Each mesh three times with the defaults (quiet, beside a CPU hog on every core, on one "
@@ -76,6 +96,9 @@ def main():
         "| --- | --- | --- | --- | --- | --- | --- |",
         *same_rows,
         "",
+        *(["The atlas the same way, PLY (float, as MeshLab stores it) and report compared:", "",
+           "| mesh | faces | charts | L2 | s: quiet / hog / one core | same bytes (PLY, report) |",
+           "| --- | --- | --- | --- | --- | --- |", *atlas_rows, ""] if atlas_rows else []),
         "What the work model counts against what the clock says, quiet run: the work of all "
         "stages (10⁹ units), their seconds, and per stage units per nanosecond (1 would be exact; "
         "the budget needs only the ratios between stages to hold):",

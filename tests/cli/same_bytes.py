@@ -30,6 +30,9 @@ import meshgen  # noqa: E402
 # Report fields that must agree (seconds and stage_seconds may not).
 SAME_FIELDS = ["l2_stretch", "linf_stretch", "stretch_iterations", "best_iteration",
                "free_boundary_steps", "refinement_stop", "refinement_work", "stage_work"]
+# The atlas's report (--atlas) has its own keys.
+ATLAS_SAME_FIELDS = ["charts", "seam", "packing_efficiency", "l2_stretch", "linf_stretch",
+                     "texels_per_unit", "chart_fallbacks", "charts_split", "refinement_work"]
 
 
 def busy():
@@ -57,12 +60,12 @@ def bumpy_patch(path):
         240, height=lambda x, y: 0.15 * math.sin(9 * x) * math.sin(7 * y) + 0.3 * x * x))
 
 
-def run(exe, mesh, folder, prefix=()):
+def run(exe, mesh, folder, prefix=(), options=(), outputs=("map.obj", "map.ply")):
     folder.mkdir(parents=True)
     reports = []
-    for name in ("map.obj", "map.ply"):
+    for name in outputs:
         report = folder / (name + ".json")
-        done = subprocess.run([*prefix, exe, mesh, folder / name, "--report", report],
+        done = subprocess.run([*prefix, exe, mesh, folder / name, "--report", report, *options],
                               capture_output=True, text=True)
         if done.returncode != 0:
             sys.exit(f"{folder.name}: straightest_param failed: {done.stderr.strip()}")
@@ -71,16 +74,18 @@ def run(exe, mesh, folder, prefix=()):
     return files, reports
 
 
-def three_runs(exe, mesh, workdir):
-    """{run name: (files, reports)} for the quiet, loaded and one-core runs."""
-    results = {"quiet": run(exe, mesh, workdir / "quiet")}
+def three_runs(exe, mesh, workdir, **how):
+    """{run name: (files, reports)} for the quiet, loaded and one-core runs; `how`: run()'s
+    options and outputs."""
+    results = {"quiet": run(exe, mesh, workdir / "quiet", **how)}
     with cpu_hog():
-        results["beside a CPU hog"] = run(exe, mesh, workdir / "hog")
-    results["one core"] = run(exe, mesh, workdir / "one_core", prefix=["taskset", "-c", "0"])
+        results["beside a CPU hog"] = run(exe, mesh, workdir / "hog", **how)
+    results["one core"] = run(exe, mesh, workdir / "one_core", prefix=["taskset", "-c", "0"],
+                              **how)
     return results
 
 
-def differences(results):
+def differences(results, fields=SAME_FIELDS):
     """What differs from the quiet run, one line each."""
     quiet_files, quiet_reports = results["quiet"]
     failures = []
@@ -91,7 +96,7 @@ def differences(results):
             if files[file] != quiet_files[file]:
                 failures.append(f"{name}: {file} differs from the quiet run's")
         for report, quiet in zip(reports, quiet_reports):
-            for field in SAME_FIELDS:
+            for field in fields:
                 if report[field] != quiet[field]:
                     failures.append(f"{name}: {field} {report[field]} against {quiet[field]}")
     return failures
