@@ -217,6 +217,23 @@ std::vector<std::vector<int>> components(const FaceGraph& g) {
 // the probe's time from 20.8 to 16.2 s with 604 charts instead of 618 (the 1.38M-face armadillo:
 // 23 s, 204 charts); 5000 split the bumpy cube and the bunny more.
 constexpr size_t kFacesPerFirstPart = 10000;
+// Above kFacesForFullFirstParts faces the first parts shrink in proportion, down to
+// kFewestFacesPerFirstPart: the refinement floor (kAtlasMinRefineWork) is shared by area, so a
+// part of a large mesh gets little of it, stops on the work budget above the chart limit and is
+// split level by level. On the scans bench's cheburashka x64 (828k faces, 8192 texture) with
+// and without noise, 10000 -> 1500 took the charts stage from 36.7 / 40.3 s to 16.7 / 21.3 s,
+// charts from 1397 / 1713 to 1143 / 1397, seam 99.6 -> 76.9 and efficiency 0.558 -> 0.653
+// (docs/measurements.md). On the atlas bench's models (at most 86k faces) 1500 would add charts
+// and seam (the bumpy cube 11 -> 28 charts), so they keep 10000.
+constexpr size_t kFacesForFullFirstParts = 200000;
+constexpr size_t kFewestFacesPerFirstPart = 1500;
+
+size_t facesPerFirstPart(size_t mesh_faces) {
+  if (mesh_faces <= kFacesForFullFirstParts) return kFacesPerFirstPart;
+  const double scaled = static_cast<double>(kFacesPerFirstPart) * kFacesForFullFirstParts /
+                        static_cast<double>(mesh_faces);
+  return std::max(kFewestFacesPerFirstPart, static_cast<size_t>(scaled));
+}
 
 // Straight cuts of flattened charts (convex_cut.h), lengths in units of √(mesh area), areas in
 // units of the mesh area; chosen with the atlas bench (docs/measurements.md): a chart longer
@@ -347,9 +364,10 @@ class AtlasBuilder {
           disks.push_back(std::move(piece));
         } else {
           // A piece that is not a disk must be cut anyway; a large one is cut into parts of
-          // about kFacesPerFirstPart faces at once, not halved level by level, so that its
+          // about facesPerFirstPart faces at once, not halved level by level, so that its
           // largest pieces are not flattened only to be split again.
-          const int parts = std::max<int>(2, static_cast<int>(faces.size() / kFacesPerFirstPart));
+          const int parts =
+              std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
           for (std::vector<int>& part : splitFaces(graph, faces, parts, scratch))
             disks.push_back({std::move(part), {}});
         }
