@@ -6,15 +6,15 @@
 // comes out with every standard library.
 #pragma once
 
-#include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
-#include <map>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "bench/midpoint_subdivision.h"  // the benches' own 1-to-4 subdivision
 
 namespace sdp::test {
 
@@ -45,35 +45,8 @@ class SplitMix64 {
   std::uint64_t state_;
 };
 
-using ScanPositions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using ScanTriangles = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
-
-inline void subdivideOnce(ScanPositions& V, ScanTriangles& F) {
-  std::map<std::pair<int, int>, int> midpoint;
-  std::vector<Eigen::RowVector3d> points(V.rows());
-  for (int v = 0; v < V.rows(); ++v) points[v] = V.row(v);
-  auto mid = [&](int a, int b) {
-    const auto key = std::minmax(a, b);
-    const auto [it, added] = midpoint.emplace(key, static_cast<int>(points.size()));
-    if (added) points.push_back(0.5 * (points[a] + points[b]));
-    return it->second;
-  };
-  ScanTriangles G(4 * F.rows(), 3);
-  for (int f = 0; f < F.rows(); ++f) {
-    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
-    const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-    G.row(4 * f) << a, ab, ca;
-    G.row(4 * f + 1) << ab, b, bc;
-    G.row(4 * f + 2) << ca, bc, c;
-    G.row(4 * f + 3) << ab, bc, ca;
-  }
-  V.resize(points.size(), 3);
-  for (size_t v = 0; v < points.size(); ++v) V.row(v) = points[v];
-  F = G;
-}
-
-inline void makeScanLike(ScanPositions& V, ScanTriangles& F, const ScanLikeOptions& o) {
-  for (int i = 0; i < o.subdivisions; ++i) subdivideOnce(V, F);
+inline void makeScanLike(Positions& V, Triangles& F, const ScanLikeOptions& o) {
+  for (int i = 0; i < o.subdivisions; ++i) sdp::bench::subdivideMidpoint(V, F);
   double edges = 0;
   for (int f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) edges += (V.row(F(f, k)) - V.row(F(f, (k + 1) % 3))).norm();
@@ -81,7 +54,7 @@ inline void makeScanLike(ScanPositions& V, ScanTriangles& F, const ScanLikeOptio
   // Separate streams, so that sigma does not move the holes or the debris.
   SplitMix64 noise(o.seed * 3), holes(o.seed * 3 + 1), debris(o.seed * 3 + 2);
   if (o.sigma > 0) {
-    ScanPositions normals = ScanPositions::Zero(V.rows(), 3);
+    Positions normals = Positions::Zero(V.rows(), 3);
     for (int f = 0; f < F.rows(); ++f) {
       const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
       const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
@@ -132,7 +105,7 @@ inline void makeScanLike(ScanPositions& V, ScanTriangles& F, const ScanLikeOptio
 }
 
 // Writes the mesh as text OFF (every reader of the product and MeshLab takes it).
-inline bool writeOff(const std::string& path, const ScanPositions& V, const ScanTriangles& F) {
+inline bool writeOff(const std::string& path, const Positions& V, const Triangles& F) {
   std::ofstream out(path);
   out.precision(17);
   out << "OFF\n" << V.rows() << " " << F.rows() << " 0\n";
