@@ -76,10 +76,12 @@ void parallelForSlots(int n, int slots, Body&& body) {
 // counter (body(begin, end, worker) as above); the calling thread joins in on the chunks once
 // its task is done. For two independent stages of unequal length (the boundary alongside the
 // weights): neither core waits for the other. An exception in the task or a chunk stops the
-// handing out of chunks and reaches the caller.
+// handing out of chunks and reaches the caller. `most_workers` > 0 caps the threads (for loops
+// whose workers each hold scratch the size of the mesh).
 template <class Task, class Body>
-void parallelForAlongside(int n, int chunk, Task&& task, Body&& body) {
-  const int workers = parallelWorkers();
+void parallelForAlongside(int n, int chunk, Task&& task, Body&& body, int most_workers = 0) {
+  const int workers =
+      most_workers > 0 ? std::min(most_workers, parallelWorkers()) : parallelWorkers();
   chunk = std::max(chunk, 1);
   std::atomic<int> next{0};
   std::vector<std::exception_ptr> errors(workers);

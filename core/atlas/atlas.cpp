@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <new>
 #include <optional>
 #include <sstream>
@@ -331,47 +332,16 @@ class AtlasBuilder {
   // its stretch is above the limit or the patch pipeline refused it; one face is a chart alone.
   // A disk cut out of a flattened chart keeps that chart's map when its own stretch is within
   // the limits: flattening it anew would cost the most of the atlas's time (docs/method.md §7).
+  // Level by level, every step runs on all pieces of the level at once (sorting them into disks
+  // and parts, flattening, deciding what each chart becomes), and the results are taken in piece
+  // order, so the charts are the same on any number of cores.
   void makeCharts(const FaceGraph& graph, std::vector<std::vector<int>> pieces) {
-    std::vector<int> scratch(graph.faceCount(), kOutside);
     AtlasReport& r = result_.report;
     int charted_faces = 0;
     std::vector<Piece> pending;
     for (std::vector<int>& faces : pieces) pending.push_back({std::move(faces), {}});
-    // The pieces of a flattened chart, each with its part of the chart's map (one face alone
-    // becomes a chart of its own anyway).
-    std::vector<int> row_of;
-    auto cutOut = [&](const Chart& chart, std::vector<std::vector<int>> parts) {
-      for (size_t i = 0; i < chart.faces.size(); ++i) scratch[chart.faces[i]] = static_cast<int>(i);
-      row_of.assign(chart.uv.size(), -1);
-      for (std::vector<int>& part : parts) {
-        std::optional<Chart> map;
-        if (part.size() > 1) map = restrictedChart(V_, F_, chart, part, scratch, row_of);
-        pending.push_back({std::move(part), std::move(map)});
-      }
-      for (int f : chart.faces) scratch[f] = kOutside;
-    };
     while (!pending.empty()) {
-      std::vector<Piece> disks;
-      for (Piece& piece : pending) {
-        std::vector<int>& faces = piece.faces;
-        if (faces.size() == 1) {
-          charts_.push_back(singleFaceChart(V_, F_, faces[0], false, 0));
-          ++charted_faces;
-        } else if (regionIsDisk(graph, faces)) {
-          if (piece.map &&
-              !(stretchAccepted(*piece.map) && piece.map->report.linf_stretch <= kMostKeptLinf))
-            piece.map.reset();
-          disks.push_back(std::move(piece));
-        } else {
-          // A piece that is not a disk must be cut anyway; a large one is cut into parts of
-          // about facesPerFirstPart faces at once, not halved level by level, so that its
-          // largest pieces are not flattened only to be split again.
-          const int parts =
-              std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
-          for (std::vector<int>& part : splitFaces(graph, faces, parts, scratch))
-            disks.push_back({std::move(part), {}});
-        }
-      }
+      std::vector<Piece> disks = sortIntoDisks(graph, std::move(pending), charted_faces);
       pending.clear();
       // Largest first, so the long ones start early.
       std::stable_sort(disks.begin(), disks.end(), [](const Piece& a, const Piece& b) {
@@ -404,38 +374,128 @@ class AtlasBuilder {
         refine_work_ += chart.refine_work;
         r.chart_fallbacks += chart.report.fallbacks;  // 0 for a kept map
       }
+      std::vector<Outcome> outcomes(disks.size());
+      forEachWithScratch(graph, static_cast<int>(disks.size()), [&](int i, FaceScratch& scratch) {
+        outcomes[i] = outcome(graph, disks[i].faces, flat[i], ok[i], scratch);
+      });
       for (size_t i = 0; i < disks.size(); ++i) {
-        const std::vector<int>& faces = disks[i].faces;
-        if (ok[i] && stretchAccepted(flat[i])) {
-          std::vector<std::vector<int>> parts = straightCutPieces(graph, flat[i], scratch);
-          if (parts.size() >= 2) {
-            ++r.charts_split;
-            cutOut(flat[i], std::move(parts));
-            continue;
-          }
-          charted_faces += static_cast<int>(faces.size());
+        Outcome& o = outcomes[i];
+        if (o.keep) {
+          charted_faces += static_cast<int>(disks[i].faces.size());
           charts_.push_back(std::move(flat[i]));
-          continue;
         }
-        std::vector<std::vector<int>> parts = splitFaces(graph, faces, 2, scratch);
-        if (parts.size() < 2) {
-          // Cannot be split further: keep the flattened chart, or its faces one by one.
-          if (ok[i]) {
-            charted_faces += static_cast<int>(faces.size());
-            charts_.push_back(std::move(flat[i]));
-          } else {
-            for (int f : faces) pending.push_back({{f}, {}});
-          }
-          continue;
-        }
-        ++r.charts_split;
-        if (ok[i]) {
-          cutOut(flat[i], std::move(parts));
-        } else {
-          for (std::vector<int>& part : parts) pending.push_back({std::move(part), {}});
-        }
+        if (o.split) ++r.charts_split;
+        for (Piece& piece : o.pieces) pending.push_back(std::move(piece));
       }
     }
+  }
+
+  // Calls body(i, scratch) for i in [0, n) on the workers, each with its own FaceScratch (made
+  // when first needed; at most kMostScratchWorkers of them, as each is about 14 bytes a face).
+  template <class Body>
+  void forEachWithScratch(const FaceGraph& graph, int n, Body&& body) {
+    constexpr int kMostScratchWorkers = 4;
+    std::vector<std::unique_ptr<FaceScratch>> scratch(kMostScratchWorkers);
+    parallelForAlongside(
+        n, 1, [] {},
+        [&](int begin, int end, int worker) {
+          if (!scratch[worker]) scratch[worker] = std::make_unique<FaceScratch>(graph);
+          for (int i = begin; i < end; ++i) {
+            if (cancelled_) return;
+            body(i, *scratch[worker]);
+          }
+        },
+        kMostScratchWorkers);
+    if (cancelled_) throw ParameterizationError("cancelled by the user");
+  }
+
+  // The pieces made ready for flattening, in order: a disk as it is (with its part of an earlier
+  // map when that map is within the limits), and a piece that is not a disk cut into disks, as
+  // it must be; a large one into parts of about facesPerFirstPart faces at once, not halved
+  // level by level, so that its largest pieces are not flattened only to be split again. One
+  // face alone becomes a chart here (added to `charted_faces`).
+  std::vector<Piece> sortIntoDisks(const FaceGraph& graph, std::vector<Piece> pieces,
+                                   int& charted_faces) {
+    std::vector<std::vector<std::vector<int>>> cut(pieces.size());
+    forEachWithScratch(graph, static_cast<int>(pieces.size()), [&](int i, FaceScratch& scratch) {
+      const std::vector<int>& faces = pieces[i].faces;
+      if (faces.size() == 1 || regionIsDisk(graph, faces, scratch)) return;
+      const int parts =
+          std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
+      cut[i] = splitFaces(graph, faces, parts, scratch);
+    });
+    std::vector<Piece> ready;
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (pieces[i].faces.size() == 1) {
+        charts_.push_back(singleFaceChart(V_, F_, pieces[i].faces[0], false, 0));
+        ++charted_faces;
+      } else if (cut[i].empty()) {
+        Piece& piece = pieces[i];
+        if (piece.map &&
+            !(stretchAccepted(*piece.map) && piece.map->report.linf_stretch <= kMostKeptLinf))
+          piece.map.reset();
+        ready.push_back(std::move(piece));
+      } else {
+        for (std::vector<int>& part : cut[i]) ready.push_back({std::move(part), {}});
+      }
+    }
+    return ready;
+  }
+
+  // What a flattened disk becomes: a chart (keep), or pieces to chart again (split), each with
+  // its part of the chart's map when it was flattened.
+  struct Outcome {
+    bool keep = false;
+    bool split = false;
+    std::vector<Piece> pieces;
+  };
+  Outcome outcome(const FaceGraph& graph, const std::vector<int>& faces, const Chart& chart,
+                  bool flattened, FaceScratch& scratch) const {
+    Outcome o;
+    if (flattened && stretchAccepted(chart)) {
+      std::vector<std::vector<int>> parts = straightCutPieces(graph, chart, scratch.region);
+      if (parts.size() >= 2) {
+        o.split = true;
+        o.pieces = cutOut(chart, std::move(parts), scratch.region);
+      } else {
+        o.keep = true;
+      }
+      return o;
+    }
+    std::vector<std::vector<int>> parts = splitFaces(graph, faces, 2, scratch);
+    if (parts.size() < 2) {
+      // Cannot be split further: keep the flattened chart, or its faces one by one.
+      if (flattened)
+        o.keep = true;
+      else
+        for (int f : faces) o.pieces.push_back({{f}, {}});
+      return o;
+    }
+    o.split = true;
+    if (flattened) {
+      o.pieces = cutOut(chart, std::move(parts), scratch.region);
+    } else {
+      for (std::vector<int>& part : parts) o.pieces.push_back({std::move(part), {}});
+    }
+    return o;
+  }
+
+  // The pieces of a flattened chart, each with its part of the chart's map (one face alone
+  // becomes a chart of its own anyway). `index_in_chart` is per-face scratch, kOutside on entry
+  // and on return.
+  std::vector<Piece> cutOut(const Chart& chart, std::vector<std::vector<int>> parts,
+                            std::vector<int>& index_in_chart) const {
+    for (size_t i = 0; i < chart.faces.size(); ++i)
+      index_in_chart[chart.faces[i]] = static_cast<int>(i);
+    std::vector<int> row_of(chart.uv.size(), -1);
+    std::vector<Piece> pieces;
+    for (std::vector<int>& part : parts) {
+      std::optional<Chart> map;
+      if (part.size() > 1) map = restrictedChart(V_, F_, chart, part, index_in_chart, row_of);
+      pieces.push_back({std::move(part), std::move(map)});
+    }
+    for (int f : chart.faces) index_in_chart[f] = kOutside;
+    return pieces;
   }
 
   // A flattened chart's pieces when it should be cut along a straight line, else nothing: a

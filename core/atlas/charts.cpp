@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -248,38 +249,125 @@ int growRegions(const FaceGraph& graph, const std::vector<int>& faces,
   return id - first_id;
 }
 
+FaceScratch::FaceScratch(const FaceGraph& graph)
+    : region(graph.faceCount(), kOutside),
+      distance(graph.faceCount(), std::numeric_limits<double>::infinity()),
+      vertex(graph.vertex_face_begin.size(), -1) {}
+
+namespace {
+
+// The face of the list farthest from the seeds so far (`distance`, which only ever decreases
+// as seeds are added), the first in list order among equals: a lazy max-heap whose entries are
+// bounds from above, re-queued at their current value when stale, so each pick costs a few heap
+// steps instead of a pass over the list.
+class FarthestFace {
+ public:
+  FarthestFace(const std::vector<int>& faces, const std::vector<double>& distance)
+      : faces_(faces), distance_(distance) {
+    for (int i = 0; i < static_cast<int>(faces.size()); ++i)
+      if (std::isfinite(distance[faces[i]])) heap_.push({distance[faces[i]], i});
+  }
+  int next() {
+    while (!heap_.empty()) {
+      const Entry top = heap_.top();
+      const double now = distance_[faces_[top.position]];
+      if (now == top.distance) return faces_[top.position];
+      heap_.pop();
+      heap_.push({now, top.position});
+    }
+    return faces_.front();
+  }
+
+ private:
+  struct Entry {
+    double distance;
+    int position;
+    bool operator<(const Entry& o) const {
+      return distance != o.distance ? distance < o.distance : position > o.position;
+    }
+  };
+  const std::vector<int>& faces_;
+  const std::vector<double>& distance_;
+  std::priority_queue<Entry> heap_;
+};
+
+// Above this many parts, seeds come from a grid (splitFaces): farthest-point sampling costs a
+// search per seed, 4.4 of the 10 s the scans bench's 1.36M-face armadillo x16 spent on its first
+// cut into 920 parts; with grid seeds its charts stay as they were (1377 against 1389, seam
+// 112.0 against 112.4, efficiency 0.608 against 0.612). At fewer parts farthest points cost
+// little and did better: on fertility x64 with noise (162 parts) grid seeds made 686 charts at
+// efficiency 0.571 in 30 s, farthest points 698 at 0.587 in 27 s.
+constexpr int kMostFarthestSeeds = 512;
+// A grid cell's side per part's length (the side of a square of a part's area): a surface
+// crosses more cells than its area in cells, so the cells are a little larger than a part.
+constexpr double kGridCellPerPartLength = 1.2;
+
+// Per occupied cell of a grid of side `cell`, the face whose centroid is nearest the cell's
+// centre (the first in list order among equals), in the cells' order.
+std::vector<int> gridSeeds(const FaceGraph& graph, const std::vector<int>& faces, double cell) {
+  Eigen::Vector3d low = graph.centroid[faces.front()];
+  for (int f : faces) low = low.cwiseMin(graph.centroid[f]);
+  struct Entry {
+    std::array<long long, 3> key;
+    double distance;
+    int position;
+    bool operator<(const Entry& o) const {
+      return key != o.key             ? key < o.key
+             : distance != o.distance ? distance < o.distance
+                                      : position < o.position;
+    }
+  };
+  std::vector<Entry> entries(faces.size());
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const Eigen::Vector3d p = (graph.centroid[faces[i]] - low) / cell;
+    Entry& e = entries[i];
+    for (int a = 0; a < 3; ++a) e.key[a] = static_cast<long long>(std::floor(p[a]));
+    const Eigen::Vector3d centre(e.key[0] + 0.5, e.key[1] + 0.5, e.key[2] + 0.5);
+    e.distance = (p - centre).squaredNorm();
+    e.position = static_cast<int>(i);
+  }
+  std::sort(entries.begin(), entries.end());
+  std::vector<int> seeds;
+  for (size_t i = 0; i < entries.size(); ++i)
+    if (i == 0 || entries[i].key != entries[i - 1].key) seeds.push_back(faces[entries[i].position]);
+  return seeds;
+}
+
+}  // namespace
+
 std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vector<int>& faces,
-                                         int parts, std::vector<int>& region) {
+                                         int parts, FaceScratch& scratch) {
   constexpr int kMarked = -3;
   constexpr int kLloydSteps = 2;
   constexpr double kCompactness = 0.25;
   std::vector<std::vector<int>> result;
   if (faces.empty()) return result;
+  std::vector<int>& region = scratch.region;
+  std::vector<double>& distance = scratch.distance;
   double area = 0;
   for (int f : faces) area += graph.area[f];
   const double length = std::sqrt(area / std::max(parts, 1));
 
-  // Seeds far apart along the surface: farthest-point sampling from the first face.
+  // Seeds far apart along the surface: farthest-point sampling from the first face; for many
+  // parts, one seed per occupied cell of a grid of the parts' size instead, which costs one
+  // sort rather than a search per seed (the Lloyd steps below place them either way).
   for (int f : faces) region[f] = kMarked;
-  std::vector<double> distance(graph.faceCount(), std::numeric_limits<double>::infinity());
   std::vector<int> seeds;
-  {
+  if (parts > kMostFarthestSeeds) {
+    seeds = gridSeeds(graph, faces, kGridCellPerPartLength * length);
+  } else {
     faceDistances(graph, region, kMarked, {faces.front()}, distance);
-    auto farthest = [&] {
-      int best = faces.front();
-      for (int f : faces)
-        if (std::isfinite(distance[f]) && distance[f] > distance[best]) best = f;
-      return best;
-    };
-    seeds.push_back(farthest());
+    seeds.push_back(FarthestFace(faces, distance).next());
     for (int f : faces) distance[f] = std::numeric_limits<double>::infinity();
     faceDistances(graph, region, kMarked, seeds, distance);
+    FarthestFace farthest(faces, distance);
     while (static_cast<int>(seeds.size()) < parts) {
-      const int next = farthest();
+      const int next = farthest.next();
       if (distance[next] == 0) break;
       seeds.push_back(next);
       faceDistances(graph, region, kMarked, {next}, distance);
     }
+    for (int f : faces) distance[f] = std::numeric_limits<double>::infinity();
   }
 
   int made = 0;
@@ -317,9 +405,9 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
   return result;
 }
 
-bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces) {
+bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {
   const Triangles& F = *graph.F;
-  std::vector<int> local(graph.vertex_face_begin.size(), -1);
+  std::vector<int>& local = scratch.vertex;
   Triangles sub(faces.size(), 3);
   int vertices = 0;
   for (size_t i = 0; i < faces.size(); ++i)
@@ -328,6 +416,8 @@ bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces) {
       if (l < 0) l = vertices++;
       sub(i, k) = l;
     }
+  for (int f : faces)
+    for (int k = 0; k < 3; ++k) local[F(f, k)] = -1;
   return analyzeConnectivity(sub, vertices).isDisk();
 }
 

@@ -50,15 +50,25 @@ int growRegions(const FaceGraph& graph, const std::vector<int>& faces,
                 const std::vector<int>& seeds, int first_id, double compactness, double length,
                 std::vector<int>& region);
 
+// Per-face and per-vertex scratch, sized to the mesh once and reset entry by entry, so that
+// splitting or checking a set of faces costs in proportion to the set, not to the mesh (a
+// million-face scan is split a thousand times). Each thread needs its own.
+struct FaceScratch {
+  explicit FaceScratch(const FaceGraph& graph);
+  std::vector<int> region;       // kOutside on entry and on return
+  std::vector<double> distance;  // +infinity on entry and on return
+  std::vector<int> vertex;       // -1 on entry and on return
+};
+
 // Splits the faces of the list into `parts` (at least 2) disk-shaped pieces, seeded far apart
 // along the surface and improved by a few Lloyd steps (each seed moved to the most typical face
-// of its piece). More pieces than asked come back when growth left faces over. `region` is
-// scratch of one entry per face, kOutside on entry and on return.
+// of its piece). More pieces than asked come back when growth left faces over.
 std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vector<int>& faces,
-                                         int parts, std::vector<int>& region);
+                                         int parts, FaceScratch& scratch);
 
 // True when the faces form a disk (one consistently oriented manifold piece with
 // one boundary loop and Euler characteristic 1).
-bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& region_faces);
+bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& region_faces,
+                  FaceScratch& scratch);
 
 }  // namespace sdp::atlas

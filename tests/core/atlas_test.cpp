@@ -635,12 +635,12 @@ TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
   const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, connectivity);
   std::vector<int> faces(mesh.F.rows());
   std::iota(faces.begin(), faces.end(), 0);
-  std::vector<int> scratch(faces.size(), kOutside);
+  FaceScratch scratch(graph);
   const auto parts = splitFaces(graph, faces, 2, scratch);
   ASSERT_EQ(parts.size(), 2u);
   std::vector<int> part(faces.size());
   for (int p = 0; p < 2; ++p) {
-    EXPECT_TRUE(regionIsDisk(graph, parts[p]));
+    EXPECT_TRUE(regionIsDisk(graph, parts[p], scratch));
     for (int f : parts[p]) part[f] = p;
   }
   double cut = 0;
