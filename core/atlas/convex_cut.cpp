@@ -1,9 +1,9 @@
 #include "convex_cut.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <utility>
 
 #include "pack.h"
@@ -53,27 +53,38 @@ std::vector<Eigen::Vector2d> clip(const std::vector<Eigen::Vector2d>& polygon,
 }  // namespace
 
 std::vector<int> boundaryLoop(const std::vector<std::array<int, 3>>& triangles) {
-  std::map<std::pair<int, int>, int> count;
+  // Sorted arrays rather than maps: the packer and the cuts ask this of every chart.
+  struct HalfEdge {
+    int low, high, from, to;
+  };
+  std::vector<HalfEdge> halves;
+  halves.reserve(3 * triangles.size());
   for (const auto& t : triangles)
     for (int k = 0; k < 3; ++k) {
       const int a = t[k], b = t[(k + 1) % 3];
-      ++count[{std::min(a, b), std::max(a, b)}];
+      halves.push_back({std::min(a, b), std::max(a, b), a, b});
     }
-  std::map<int, int> next;  // boundary half-edges, as the faces run
-  size_t edges = 0;
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      if (count[{std::min(a, b), std::max(a, b)}] != 1) continue;
-      if (!next.emplace(a, b).second) return {};  // two boundary edges leave a: not one loop
-      ++edges;
-    }
+  std::sort(halves.begin(), halves.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return x.low != y.low ? x.low < y.low : x.high < y.high;
+  });
+  std::vector<std::pair<int, int>> next;  // boundary half-edges (from, to), as the faces run
+  for (size_t i = 0; i < halves.size();) {
+    size_t j = i;
+    while (j < halves.size() && halves[j].low == halves[i].low && halves[j].high == halves[i].high)
+      ++j;
+    if (j - i == 1) next.emplace_back(halves[i].from, halves[i].to);
+    i = j;
+  }
   if (next.empty()) return {};
+  std::sort(next.begin(), next.end());
+  for (size_t i = 1; i < next.size(); ++i)
+    if (next[i].first == next[i - 1].first) return {};  // two boundary edges leave a vertex
+  const size_t edges = next.size();
   std::vector<int> loop;
-  for (int v = next.begin()->first;;) {
+  for (int v = next.front().first;;) {
     loop.push_back(v);
-    const auto it = next.find(v);
-    if (it == next.end() || loop.size() > edges) return {};
+    const auto it = std::lower_bound(next.begin(), next.end(), std::make_pair(v, INT_MIN));
+    if (it == next.end() || it->first != v || loop.size() > edges) return {};
     v = it->second;
     if (v == loop.front()) break;
   }

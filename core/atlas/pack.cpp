@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 #include <string>
 
@@ -198,43 +199,32 @@ class Occupancy {
   // The lowest y >= 0 at which the chart's cells, moved by (x, y), miss every occupied cell.
   // Returns INT_MAX early once y cannot stay below `give_up`.
   int lowestFree(const Footprint& fp, int x, int give_up = INT_MAX) const {
-    // Start above each column's filled bottom (the run from row 0): only holes above it are
-    // searched.
-    int y = 0, passes = 0;
-    for (int i = 0; i < fp.width; ++i) {
-      const Runs& column = columns_[x + i];
-      if (!fp.cells[i].empty() && !column.empty() && column.front().first == 0)
-        y = std::max(y, column.front().second + 1 - fp.cells[i].front().first);
+    // Every move below is to the lowest spot that clears one occupied run in the way, so none
+    // passes over a free spot, and the moves may come in any order. Columns spread across the
+    // chart come first: a run in the way is usually met there at a fraction of a full pass's
+    // cost (most spots tried cannot beat the best so far, and end as soon as that is known).
+    const int sample = std::max(1, fp.width / kSampledColumns);
+    int y = 0;
+    if (raise(fp, x, sample, give_up, y) == kGaveUp) return INT_MAX;
+    for (int pass = 0; pass < kPasses; ++pass) {
+      const Move move = clear(fp, x, sample, give_up, y);
+      if (move == kGaveUp) return INT_MAX;
+      if (move == kStayed) break;
     }
-    if (y >= give_up) return INT_MAX;
-    // A hole is searched for a few passes; past them the chart goes above every cell of its
-    // columns, which is always free.
-    constexpr int kPasses = 4;
-    for (bool moved = true; moved;) {
-      moved = false;
-      if (++passes > kPasses) {
+    if (raise(fp, x, 1, give_up, y) == kGaveUp) return INT_MAX;
+    // A hole is searched for a few passes over every column; past them the chart goes above
+    // every cell of its columns, which is always free.
+    for (int pass = 0;; ++pass) {
+      if (pass == kPasses) {
         for (int i = 0; i < fp.width; ++i)
           if (!columns_[x + i].empty() && !fp.cells[i].empty())
             y = std::max(y, columns_[x + i].back().second + 1 - fp.cells[i].front().first);
-        if (y >= give_up) return INT_MAX;
-        break;
+        return y >= give_up ? INT_MAX : y;
       }
-      for (int i = 0; i < fp.width; ++i) {
-        const Runs& column = columns_[x + i];
-        for (const auto& [lo, hi] : fp.cells[i]) {
-          // The first occupied run ending at or above this run's bottom.
-          auto it =
-              std::lower_bound(column.begin(), column.end(), y + lo,
-                               [](const std::pair<int, int>& r, int v) { return r.second < v; });
-          if (it != column.end() && it->first <= y + hi) {
-            y = it->second + 1 - lo;
-            if (y >= give_up) return INT_MAX;
-            moved = true;
-          }
-        }
-      }
+      const Move move = clear(fp, x, 1, give_up, y);
+      if (move == kGaveUp) return INT_MAX;
+      if (move == kStayed) return y;
     }
-    return y;
   }
 
   void occupy(const Footprint& fp, int x, int y) {
@@ -252,13 +242,50 @@ class Occupancy {
   int top() const { return top_; }  // one above the highest chart cell
 
  private:
+  static constexpr int kPasses = 4;
+  static constexpr int kSampledColumns = 32;
+  enum Move { kStayed, kMoved, kGaveUp };
+
+  // Raises y above each column's filled bottom (the run from row 0), every `step`-th column:
+  // only holes above it are searched.
+  Move raise(const Footprint& fp, int x, int step, int give_up, int& y) const {
+    for (int i = 0; i < fp.width; i += step) {
+      const Runs& column = columns_[x + i];
+      if (!fp.cells[i].empty() && !column.empty() && column.front().first == 0)
+        y = std::max(y, column.front().second + 1 - fp.cells[i].front().first);
+    }
+    return y >= give_up ? kGaveUp : kStayed;
+  }
+
+  // One pass over every `step`-th column, moving y above each occupied run in the way.
+  Move clear(const Footprint& fp, int x, int step, int give_up, int& y) const {
+    Move move = kStayed;
+    for (int i = 0; i < fp.width; i += step) {
+      const Runs& column = columns_[x + i];
+      for (const auto& [lo, hi] : fp.cells[i]) {
+        // The first occupied run ending at or above this run's bottom.
+        auto it =
+            std::lower_bound(column.begin(), column.end(), y + lo,
+                             [](const std::pair<int, int>& r, int v) { return r.second < v; });
+        if (it != column.end() && it->first <= y + hi) {
+          y = it->second + 1 - lo;
+          if (y >= give_up) return kGaveUp;
+          move = kMoved;
+        }
+      }
+    }
+    return move;
+  }
+
   std::vector<Runs> columns_;
   int top_ = 0;
 };
 
-// Charts with at least this many texture coordinates have their four quarter turns searched
-// by parallel workers.
-constexpr size_t kFewestPointsForParallelTurns = 300;
+// Charts with at least this many texture coordinates are searched by parallel workers.
+constexpr size_t kFewestPointsForParallelSearch = 100;
+// The columns tried first in each turn are shared out in this many slices, so that both cores
+// work on one chart whatever its turns cost.
+constexpr int kSlicesPerTurn = 2;
 
 // Packs every chart at `scale` into a strip as wide as the texture, each at a low free spot
 // (lowest top, then lowest, then leftmost, of those searched over four quarter turns: every
@@ -270,55 +297,79 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
   const int size = options.texture_size;
   const int reach = std::max(options.gutter - 1, 0);
   Occupancy occupancy(size);
+  struct Spot {
+    int top = INT_MAX, y = 0, x = 0, turn = 0;
+    bool operator<(const Spot& o) const {
+      return top != o.top ? top < o.top : y != o.y ? y < o.y : x < o.x;
+    }
+  };
   for (int c : order) {
-    struct Spot {
-      int top = INT_MAX, y = 0, x = 0, turn = 0;
-      bool operator<(const Spot& o) const {
-        return top != o.top ? top < o.top : y != o.y ? y < o.y : x < o.x;
-      }
-    } best;
     std::vector<Eigen::Vector2d> p(charts[c].uv.size());
     for (size_t i = 0; i < p.size(); ++i) p[i] = box[c] * charts[c].uv[i] * scale;
-    // Each quarter turn searched on its own (so in parallel, with the same result on any number
-    // of cores), then the best taken in turn order.
+    // Each quarter turn and slice searched on its own (so in parallel), each keeping its lowest
+    // spot; a spot is skipped only when it cannot beat the lowest its slice has found, so the
+    // lowest of all is the same whatever the order, on any number of cores.
     Footprint turned[4];
-    Spot spots[4];
-    auto searchTurn = [&](int turn) {
+    Spot spots[4][kSlicesPerTurn];
+    auto tryAt = [&](const Footprint& fp, int turn, int x, Spot& local) {
+      const int y =
+          occupancy.lowestFree(fp, x, local.top == INT_MAX ? INT_MAX : local.top - fp.height + 1);
+      if (y == INT_MAX) return;
+      const Spot spot{y + fp.height, y, x, turn};
+      if (spot < local) local = spot;
+    };
+    auto stride = [&](const Footprint& fp) {
+      return std::max({1, fp.width / 8, size / 256});  // at most 256 columns first
+    };
+    auto build = [&](int turn) {
       std::vector<Eigen::Vector2d> q = p;
       // A quarter turn (x, y) -> (-y, x) is exact in floating point.
       for (int t = 0; t < turn; ++t)
         for (Eigen::Vector2d& v : q) v = Eigen::Vector2d(-v.y(), v.x());
-      Footprint& fp = turned[turn];
-      fp = footprint(q, charts[c].triangles, loops[c], options.margin, reach, size);
+      turned[turn] = footprint(q, charts[c].triangles, loops[c], options.margin, reach, size);
+    };
+    std::once_flag built[4];
+    auto scanSlice = [&](int task) {
+      const int turn = task / kSlicesPerTurn, slice = task % kSlicesPerTurn;
+      std::call_once(built[turn], build, turn);
+      const Footprint& fp = turned[turn];
+      if (fp.width > size || fp.height > size) return;
+      const int step = stride(fp), columns = (size - fp.width) / step + 1;
+      for (int k = columns * slice / kSlicesPerTurn; k < columns * (slice + 1) / kSlicesPerTurn;
+           ++k)
+        tryAt(fp, turn, k * step, spots[turn][slice]);
+    };
+    // Around each turn's lowest spot in halving steps.
+    auto refine = [&](int turn, Spot& local) {
+      const Footprint& fp = turned[turn];
       if (fp.width > size || fp.height > size) return;
       const int last = size - fp.width;
-      // Every `stride`-th column (at most 256 of them), then around the best in halving steps.
-      const int stride = std::max({1, fp.width / 8, size / 256});
-      Spot& local = spots[turn];
-      auto tryAt = [&](int x) {
-        // Spots that cannot beat the best so far are not searched.
-        const int y =
-            occupancy.lowestFree(fp, x, local.top == INT_MAX ? INT_MAX : local.top - fp.height + 1);
-        if (y == INT_MAX) return;
-        const Spot spot{y + fp.height, y, x, turn};
-        if (spot < local) local = spot;
-      };
-      for (int x = 0; x <= last; x += stride) tryAt(x);
-      for (int step = stride / 2; step >= 1; step /= 2) {
+      for (int step = stride(fp) / 2; step >= 1; step /= 2) {
         const int around = local.x;
-        if (around - step >= 0) tryAt(around - step);
-        if (around + step <= last) tryAt(around + step);
+        if (around - step >= 0) tryAt(fp, turn, around - step, local);
+        if (around + step <= last) tryAt(fp, turn, around + step, local);
       }
     };
-    // Threads only pay for themselves on larger charts.
-    if (p.size() >= kFewestPointsForParallelTurns)
-      parallelFor(4, 1, [&](int begin, int end, int) {
-        for (int turn = begin; turn < end; ++turn) searchTurn(turn);
-      });
+    Spot lowest[4];
+    auto searchTurn = [&](int turn) {
+      for (int slice = 0; slice < kSlicesPerTurn; ++slice)
+        if (spots[turn][slice] < lowest[turn]) lowest[turn] = spots[turn][slice];
+      refine(turn, lowest[turn]);
+    };
+    // Threads only pay for themselves on larger charts. A turn's footprint is built by the
+    // first of its slices to start.
+    if (p.size() >= kFewestPointsForParallelSearch)
+      parallelForAlongside(
+          4 * kSlicesPerTurn, 1, [] {},
+          [&](int begin, int end, int) {
+            for (int task = begin; task < end; ++task) scanSlice(task);
+          });
     else
-      for (int turn = 0; turn < 4; ++turn) searchTurn(turn);
+      for (int task = 0; task < 4 * kSlicesPerTurn; ++task) scanSlice(task);
+    for (int turn = 0; turn < 4; ++turn) searchTurn(turn);
+    Spot best;
     for (int turn = 0; turn < 4; ++turn)
-      if (spots[turn] < best) best = spots[turn];
+      if (lowest[turn] < best) best = lowest[turn];
     const Footprint& chosen = turned[best.turn];
     if (best.top == INT_MAX) return INT_MAX;
     occupancy.occupy(chosen, best.x, best.y);
@@ -327,6 +378,10 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
   }
   return occupancy.top();
 }
+
+// Texture coordinates of all charts up to which the scale is searched finely (pack.cpp's
+// largestFittingScale): the atlas bench's models (up to 86k faces) all are.
+constexpr size_t kMostPointsForFinePacking = 200000;
 
 // Finds the largest scale at which the charts, dropped in `order`, fit the texture, and their
 // places there; `aim` is a scale to try first, and with `must_beat` the search stops when the
@@ -341,9 +396,18 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
   // Packed into a strip as wide as the texture, the used height grows about as the scale: each
   // try aims at the height of the texture from the last, between the largest scale that fit and
   // the smallest that did not.
-  // A fit that fills all but kFullEnough of the height is kept: the next try would aim under 1%
-  // higher and cost a whole pack (seconds at a million faces; 8 more tries were seen, for 0.2%).
-  constexpr double kFullEnough = 0.02;
+  // A fit that fills all but `full_enough` of the height is kept: the next try would aim a
+  // little higher and cost a whole pack (seconds at a million faces; 8 more tries were seen, for
+  // 0.2%). Where packs are cheap (kMostPointsForFinePacking) the band is narrow and each try
+  // aims at its top. Where they are costly it is wider and each try aims at its middle: the
+  // height of a pack varies by about 1% from one scale to a nearby one, so a try aimed at the
+  // very top overflowed as often as not and a third was needed (the scans bench's armadillo
+  // x16: 3 packs, 16.3 s; 2, 9.1 s, for 0.6% of the texels).
+  size_t points = 0;
+  for (const ChartShape& chart : charts) points += chart.uv.size();
+  const bool costly = points > kMostPointsForFinePacking;
+  const double full_enough = costly ? 0.03 : 0.02;
+  const double aimed_height = costly ? 1 - 0.5 * full_enough : 0.998 * 0.998;
   std::vector<Placement> trial(charts.size());
   double fits = 0, fails = std::numeric_limits<double>::infinity(), scale = aim;
   for (int attempt = 0; attempt < 10 && fails > 1.005 * fits; ++attempt) {
@@ -352,13 +416,12 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
     if (height <= size) {
       fits = scale;
       placements = trial;
-      if (height >= (1 - kFullEnough) * size) break;
+      if (height >= (1 - full_enough) * size) break;
     } else {
       fails = scale;
       if (must_beat && fits == 0) return 0;
     }
-    double next =
-        height == INT_MAX ? 0.5 * scale : scale * std::sqrt(double(size) / height) * 0.998;
+    double next = height == INT_MAX ? 0.5 * scale : scale * std::sqrt(aimed_height * size / height);
     if (!(next > fits && next < fails))
       next = std::isfinite(fails) ? 0.5 * (fits + fails) : 1.05 * scale;
     scale = next;
@@ -385,11 +448,17 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
   std::vector<Eigen::Vector2d> extent(n);
   std::vector<double> area(n, 0.0);
   double total = 0, longest = 0;
-  for (int c = 0; c < n; ++c) {
-    box[c] = smallestBoxRotation(charts[c].uv);
-    loops[c] = boundaryLoop(charts[c].triangles);
-    extent[c] = boundsOf(charts[c].uv, box[c]).extent();
-    area[c] = uvArea(charts[c].uv, charts[c].triangles);
+  parallelForAlongside(
+      n, 16, [] {},
+      [&](int begin, int end, int) {
+        for (int c = begin; c < end; ++c) {
+          box[c] = smallestBoxRotation(charts[c].uv);
+          loops[c] = boundaryLoop(charts[c].triangles);
+          extent[c] = boundsOf(charts[c].uv, box[c]).extent();
+          area[c] = uvArea(charts[c].uv, charts[c].triangles);
+        }
+      });
+  for (int c = 0; c < n; ++c) {  // in chart order: the same sum on any number of cores
     total += area[c];
     longest = std::max(longest, extent[c].maxCoeff());
   }
