@@ -294,6 +294,7 @@ class AtlasBuilder {
       }
     std::vector<std::vector<int>> pieces = components(graph);
     r.components = static_cast<int>(pieces.size());
+    checkRoomForCharts(r.zero_area_faces + r.components);
     makeCharts(graph, std::move(pieces));
     r.stage_seconds.emplace_back("charts", secondsSince(stage));
 
@@ -307,6 +308,21 @@ class AtlasBuilder {
   }
 
  private:
+  // Refuses at the start, not after the charts' work, when `fewest_charts` charts cannot fit
+  // the texture at any scale: every chart covers a texel at least, and the texels of two charts
+  // are at least a gutter apart in both directions (pack.h), so the texture holds at most
+  // ceil(size / gutter)^2 charts.
+  void checkRoomForCharts(long long fewest_charts) const {
+    const long long size = options_.texture_size, gutter = std::max(options_.gutter, 1);
+    const long long most = ((size + gutter - 1) / gutter) * ((size + gutter - 1) / gutter);
+    if (fewest_charts > most)
+      throw ParameterizationError(
+          "the mesh needs at least " + std::to_string(fewest_charts) +
+          " charts (one per piece and per zero-area face), more than a " + std::to_string(size) +
+          " texel texture with a " + std::to_string(options_.gutter) + " texel gutter can hold (" +
+          std::to_string(most) + "): raise the texture size or lower the gutter");
+  }
+
   // Calls the user's progress callback (on the calling thread only); a cancel is noted and
   // thrown.
   void report(int percent) {

@@ -410,7 +410,14 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
   const double aimed_height = costly ? 1 - 0.5 * full_enough : 0.998 * 0.998;
   std::vector<Placement> trial(charts.size());
   double fits = 0, fails = std::numeric_limits<double>::infinity(), scale = aim;
-  for (int attempt = 0; attempt < 10 && fails > 1.005 * fits; ++attempt) {
+  // Until a scale fits, tries go on (up to kMostTriesToFit), each from the last two heights:
+  // many small charts are held apart by their gutters, so the height falls far more slowly than
+  // the scale squared, and tries aimed by the square crept down (1025 separate triangles in a
+  // 128-texel texture were refused after ten tries, though they fit at a fifth of the scale).
+  constexpr int kMostTries = 10, kMostTriesToFit = 40;
+  double last_scale = 0, last_height = 0;
+  for (int attempt = 0; attempt < (fits > 0 ? kMostTries : kMostTriesToFit) && fails > 1.005 * fits;
+       ++attempt) {
     ++attempts;
     const int height = packAt(charts, box, loops, order, scale, options, trial);
     if (height <= size) {
@@ -422,8 +429,21 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
       if (must_beat && fits == 0) return 0;
     }
     double next = height == INT_MAX ? 0.5 * scale : scale * std::sqrt(aimed_height * size / height);
+    if (fits == 0 && height != INT_MAX && last_height > size && last_scale > scale) {
+      if (height >= last_height) {
+        // No lower at a smaller scale: the footprints are texels and gutters.
+        next = 0.5 * scale;
+      } else if (last_scale > 1.05 * scale) {
+        // The height's growth with the scale, over tries far enough apart that the height's
+        // ups and downs of about 1% do not decide it; below linear the gutters dominate.
+        const double growth = std::log(last_height / height) / std::log(last_scale / scale);
+        if (growth < 1) next = scale * std::pow(aimed_height * size / height, 1 / growth);
+      }
+    }
     if (!(next > fits && next < fails))
       next = std::isfinite(fails) ? 0.5 * (fits + fails) : 1.05 * scale;
+    last_scale = scale;
+    last_height = height == INT_MAX ? 0 : height;
     scale = next;
   }
   return fits;

@@ -453,6 +453,46 @@ TEST(Atlas, BadInputIsRefusedWithOneLine) {
     EXPECT_EQ(r.find('\n'), std::string::npos);
 }
 
+// A triangle soup with more pieces than the texture has room for charts is refused at the
+// start, before any chart is flattened (progress never passes 0), with what to change.
+TEST(Atlas, MorePiecesThanTheTextureHoldsAreRefusedBeforeCharting) {
+  auto soup = [](int triangles, Positions& V, Triangles& F) {
+    V.resize(3 * triangles, 3);
+    F.resize(triangles, 3);
+    for (int t = 0; t < triangles; ++t) {
+      V.row(3 * t) << 2.0 * t, 0, 0;
+      V.row(3 * t + 1) << 2.0 * t + 1, 0, 0;
+      V.row(3 * t + 2) << 2.0 * t, 1, 0;
+      F.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
+    }
+  };
+  AtlasOptions o;
+  o.texture_size = 64;
+  o.gutter = 2;  // room for at most 32 x 32 charts
+  int highest = -1;
+  o.chart.progress = [&highest](const char*, int percent) {
+    highest = std::max(highest, percent);
+    return true;
+  };
+  Positions V;
+  Triangles F;
+  soup(1025, V, F);
+  try {
+    makeAtlas(V, F, o);
+    ADD_FAILURE() << "accepted";
+  } catch (const ParameterizationError& e) {
+    const std::string why = e.what();
+    EXPECT_NE(why.find("at least 1025 charts"), std::string::npos) << why;
+    EXPECT_NE(why.find("(1024)"), std::string::npos) << why;
+    EXPECT_NE(why.find("raise the texture size"), std::string::npos) << why;
+    EXPECT_EQ(why.find('\n'), std::string::npos);
+  }
+  EXPECT_EQ(highest, 0);
+  // With a texture twice as wide the same soup is charted.
+  o.texture_size = 128;
+  EXPECT_EQ(makeAtlas(V, F, o).report.charts, 1025);
+}
+
 TEST(Atlas, CancelStopsTheRun) {
   const Mesh mesh = sphere(3);
   AtlasOptions o = quickOptions();
