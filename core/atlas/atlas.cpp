@@ -296,6 +296,7 @@ class AtlasBuilder {
     r.components = static_cast<int>(pieces.size());
     checkRoomForCharts(r.zero_area_faces + r.components);
     makeCharts(graph, std::move(pieces));
+    scratch_.clear();  // about 12 bytes a face each: not kept through packing and storage
     r.stage_seconds.emplace_back("charts", secondsSince(stage));
 
     stage = Clock::now();
@@ -434,10 +435,13 @@ class AtlasBuilder {
   // face alone becomes a chart here (added to `charted_faces`).
   std::vector<Piece> sortIntoDisks(const FaceGraph& graph, std::vector<Piece> pieces,
                                    int& charted_faces) {
+    std::vector<char> disk(pieces.size(), 0);
     std::vector<std::vector<std::vector<int>>> cut(pieces.size());
     forEachWithScratch(graph, static_cast<int>(pieces.size()), [&](int i, FaceScratch& scratch) {
       const std::vector<int>& faces = pieces[i].faces;
-      if (faces.size() == 1 || regionIsDisk(graph, faces, scratch)) return;
+      if (faces.size() == 1) return;
+      disk[i] = regionIsDisk(graph, faces, scratch);
+      if (disk[i]) return;
       const int parts =
           std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
       cut[i] = splitFaces(graph, faces, parts, scratch);
@@ -447,7 +451,7 @@ class AtlasBuilder {
       if (pieces[i].faces.size() == 1) {
         charts_.push_back(singleFaceChart(V_, F_, pieces[i].faces[0], false, 0));
         ++charted_faces;
-      } else if (cut[i].empty()) {
+      } else if (disk[i]) {
         Piece& piece = pieces[i];
         if (piece.map &&
             !(stretchAccepted(*piece.map) && piece.map->report.linf_stretch <= kMostKeptLinf))
