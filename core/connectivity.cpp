@@ -49,11 +49,6 @@ class ConnectivityAnalysis {
   }
 
  private:
-  // Undirected edges: the half-edges sorted by their end points.
-  struct Key {
-    int low, high, half_edge;
-  };
-
   int from(int h) const { return F_(h / 3, h % 3); }
   int to(int h) const { return F_(h / 3, (h % 3 + 1) % 3); }
 
@@ -67,34 +62,7 @@ class ConnectivityAnalysis {
     c_.vertices = static_cast<int>(std::count(used.begin(), used.end(), 1));
   }
 
-  // Ordered by (low, high, half-edge), a total order, so the result is that of any sort: by
-  // low end with a counting sort (linear; a comparison sort of every half-edge was most of this
-  // analysis at millions of faces), then each vertex's few edges by (high, half-edge).
-  void sortEdges() {
-    std::vector<int> begin(vertex_count_ + 1, 0);
-    for (int h = 0; h < 3 * faces_; ++h)
-      if (from(h) != to(h)) ++begin[std::min(from(h), to(h)) + 1];
-    for (int v = 0; v < vertex_count_; ++v) begin[v + 1] += begin[v];
-    keys_.resize(begin[vertex_count_]);
-    std::vector<int> fill(begin.begin(), begin.end() - 1);
-    for (int h = 0; h < 3 * faces_; ++h)  // half-edges in order: each run starts sorted by them
-      if (from(h) != to(h)) {
-        const int low = std::min(from(h), to(h));
-        keys_[fill[low]++] = {low, std::max(from(h), to(h)), h};
-      }
-    for (int v = 0; v < vertex_count_; ++v) {
-      Key* first = keys_.data() + begin[v];
-      Key* last = keys_.data() + begin[v + 1];
-      if (last - first > 32) {
-        std::sort(first, last, [](const Key& x, const Key& y) {
-          return x.high != y.high ? x.high < y.high : x.half_edge < y.half_edge;
-        });
-        continue;
-      }
-      for (Key* i = first + 1; i < last; ++i)  // insertion: stable, so half-edges stay in order
-        for (Key* j = i; j > first && j->high < (j - 1)->high; --j) std::swap(*j, *(j - 1));
-    }
-  }
+  void sortEdges() { keys_ = sortedHalfEdges(F_, vertex_count_); }
 
   // One edge per run of equal keys: one half-edge is a boundary edge, two are twins (the same
   // direction twice: inconsistent orientation), more are a non-manifold edge.
@@ -200,7 +168,7 @@ class ConnectivityAnalysis {
   const Triangles& F_;
   const int faces_, vertex_count_;
   Connectivity c_;
-  std::vector<Key> keys_;
+  std::vector<HalfEdgeKey> keys_;  // undirected edges: the half-edges sorted by their ends
   std::vector<std::pair<size_t, size_t>> edge_groups_;  // [begin, end) into keys_
   std::vector<int> boundary_half_edges_;
   DisjointSets face_sets_, boundary_sets_;
@@ -210,6 +178,38 @@ class ConnectivityAnalysis {
 
 Connectivity analyzeConnectivity(const Triangles& F, int vertex_count) {
   return ConnectivityAnalysis(F, vertex_count).run();
+}
+
+std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count) {
+  // By lower end with a counting sort (a comparison sort of every half-edge was seconds at
+  // millions of faces), then each vertex's few half-edges by (high, half_edge).
+  const int faces = static_cast<int>(F.rows());
+  auto from = [&](int h) { return F(h / 3, h % 3); };
+  auto to = [&](int h) { return F(h / 3, (h % 3 + 1) % 3); };
+  std::vector<int> begin(vertex_count + 1, 0);
+  for (int h = 0; h < 3 * faces; ++h)
+    if (from(h) != to(h)) ++begin[std::min(from(h), to(h)) + 1];
+  for (int v = 0; v < vertex_count; ++v) begin[v + 1] += begin[v];
+  std::vector<HalfEdgeKey> keys(begin[vertex_count]);
+  std::vector<int> fill(begin.begin(), begin.end() - 1);
+  for (int h = 0; h < 3 * faces; ++h)  // half-edges in order: each run starts sorted by them
+    if (from(h) != to(h)) {
+      const int low = std::min(from(h), to(h));
+      keys[fill[low]++] = {low, std::max(from(h), to(h)), h};
+    }
+  for (int v = 0; v < vertex_count; ++v) {
+    HalfEdgeKey* first = keys.data() + begin[v];
+    HalfEdgeKey* last = keys.data() + begin[v + 1];
+    if (last - first > 32) {
+      std::sort(first, last, [](const HalfEdgeKey& x, const HalfEdgeKey& y) {
+        return x.high != y.high ? x.high < y.high : x.half_edge < y.half_edge;
+      });
+      continue;
+    }
+    for (HalfEdgeKey* i = first + 1; i < last; ++i)  // insertion: stable, half-edges stay in order
+      for (HalfEdgeKey* j = i; j > first && j->high < (j - 1)->high; --j) std::swap(*j, *(j - 1));
+  }
+  return keys;
 }
 
 std::vector<char> coherentOrientation(const Triangles& F, const Connectivity& connectivity) {

@@ -43,6 +43,15 @@ struct Connectivity {
 // `vertex_count` bounds the indices of F (each in [0, vertex_count)).
 Connectivity analyzeConnectivity(const Triangles& F, int vertex_count);
 
+// A half-edge h = 3 f + k by its undirected edge: its lower and higher end vertex.
+struct HalfEdgeKey {
+  int low, high, half_edge;
+};
+// Every half-edge whose two ends differ, ordered by (low, high, half_edge), so the half-edges of
+// one edge are neighbours; in linear time (a counting sort on the lower end). `vertex_count`
+// bounds the indices of F.
+std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count);
+
 // Which faces to turn over (reverse their winding) so that faces joined across two-face edges
 // agree, per face 1 = turn over. Faces are walked breadth-first from each piece's first face; in
 // each piece the side kept is the one most of its faces already have (ties keep the first face's),

@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 
+#include "core/connectivity.h"
 #include "core/disjoint_sets.h"
 #include "core/geometry.h"
 #include "core/metrics.h"
@@ -23,47 +24,16 @@ struct EdgeGroups {
   std::vector<int> begin;       // group g: half_edges[begin[g] .. begin[g + 1])
 };
 EdgeGroups edgeGroups(const Triangles& F) {
-  // Ordered by (low, high, half-edge), a total order: by low end with a counting sort (linear;
-  // a comparison sort was seconds at millions of faces), then each vertex's few by the rest.
-  const int faces = static_cast<int>(F.rows());
-  struct Key {
-    int low, high, h;
-  };
   int vertices = 0;
-  for (int f = 0; f < faces; ++f)
+  for (int f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) vertices = std::max(vertices, F(f, k) + 1);
-  std::vector<int> begin(vertices + 1, 0);
-  for (int f = 0; f < faces; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      if (a != b) ++begin[std::min(a, b) + 1];
-    }
-  for (int v = 0; v < vertices; ++v) begin[v + 1] += begin[v];
-  std::vector<Key> keys(begin[vertices]);
-  std::vector<int> fill(begin.begin(), begin.end() - 1);
-  for (int f = 0; f < faces; ++f)  // half-edges in order: each vertex's run starts sorted by them
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      if (a != b) keys[fill[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), 3 * f + k};
-    }
-  for (int v = 0; v < vertices; ++v) {
-    Key* first = keys.data() + begin[v];
-    Key* last = keys.data() + begin[v + 1];
-    if (last - first > 32) {
-      std::sort(first, last, [](const Key& x, const Key& y) {
-        return x.high != y.high ? x.high < y.high : x.h < y.h;
-      });
-      continue;
-    }
-    for (Key* i = first + 1; i < last; ++i)  // insertion: stable, so half-edges stay in order
-      for (Key* j = i; j > first && j->high < (j - 1)->high; --j) std::swap(*j, *(j - 1));
-  }
+  const std::vector<HalfEdgeKey> keys = sortedHalfEdges(F, vertices);
   EdgeGroups groups;
   groups.half_edges.reserve(keys.size());
   for (size_t i = 0; i < keys.size(); ++i) {
     if (i == 0 || keys[i].low != keys[i - 1].low || keys[i].high != keys[i - 1].high)
       groups.begin.push_back(static_cast<int>(i));
-    groups.half_edges.push_back(keys[i].h);
+    groups.half_edges.push_back(keys[i].half_edge);
   }
   groups.begin.push_back(static_cast<int>(keys.size()));
   return groups;
