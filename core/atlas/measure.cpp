@@ -52,11 +52,10 @@ bool sameSides(const Triangles& F, const Layout& layout, int f, int g, int a, in
          cornerAt(F, layout, f, b) == cornerAt(F, layout, g, b);
 }
 
-}  // namespace
-
-std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* count) {
+// chartsByUVs over edge groups the caller already has.
+std::vector<int> chartsOfGroups(const Triangles& F, const Layout& layout, const EdgeGroups& groups,
+                                int* count) {
   const int faces = static_cast<int>(F.rows());
-  const EdgeGroups groups = edgeGroups(F);
   DisjointSets sets(faces);
   for (size_t g = 0; g + 1 < groups.begin.size(); ++g)
     for (int i = groups.begin[g]; i < groups.begin[g + 1]; ++i)
@@ -74,6 +73,12 @@ std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* coun
   }
   if (count) *count = charts;
   return chart;
+}
+
+}  // namespace
+
+std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* count) {
+  return chartsOfGroups(F, layout, edgeGroups(F), count);
 }
 
 PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart, int size,
@@ -161,12 +166,12 @@ AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout&
                            int texture_size, int gutter) {
   AtlasMeasures m;
   const int faces = static_cast<int>(F.rows());
-  m.chart = chartsByUVs(F, layout, &m.charts);
+  const EdgeGroups groups = edgeGroups(F);
+  m.chart = chartsOfGroups(F, layout, groups, &m.charts);
 
   // Seam and 3D area.
   double area3d = 0;
   for (int f = 0; f < faces; ++f) area3d += faceArea3d(V, F, f);
-  const EdgeGroups groups = edgeGroups(F);
   double seam = 0;
   for (size_t g = 0; g + 1 < groups.begin.size(); ++g) {
     const int first = groups.begin[g], last = groups.begin[g + 1];
