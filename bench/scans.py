@@ -66,7 +66,7 @@ def run_ours(args, mesh, folder):
     report_path = folder / "ours.json"
     command = [str(args.build / "bin" / "straightest_param"), str(mesh), str(out), "--atlas",
                "--texture-size", str(args.texture_size), "--uv-storage", "float", "--quiet",
-               "--report", str(report_path)]
+               "--report", str(report_path), "--progress"]
     started = time.monotonic()
     before = os.times()
     _, err, code, peak_mb = run_with_rusage(command)
@@ -82,6 +82,7 @@ def run_ours(args, mesh, folder):
     row.update({k: report[k] for k in ("charts", "charts_split", "l2_stretch", "linf_stretch",
                                         "seconds", "faces", "components")})
     row["stage_seconds"] = report.get("stage_seconds", {})
+    row["progress_gaps"] = progress_gaps(err)
     score = subprocess.run([str(args.build / "bin" / "sdp_atlas_score"), str(out),
                             str(args.texture_size), "2"], capture_output=True, text=True)
     if score.returncode != 0:
@@ -90,6 +91,22 @@ def run_ours(args, mesh, folder):
     row["scored"] = json.loads(score.stdout)
     out.unlink()  # hundreds of MB at the big sizes
     return row
+
+
+def progress_gaps(stderr):
+    """The longest wait, in seconds, for a call of the progress callback and for a move of its
+    percentage (what a front end's bar shows), from the CLI's --progress lines."""
+    calls = []
+    for line in stderr.splitlines():
+        parts = line.split()
+        if len(parts) == 4 and parts[0] == "progress":
+            calls.append((float(parts[3]), int(parts[2].rstrip("%"))))
+    if len(calls) < 2:
+        return None
+    moves = [c for i, c in enumerate(calls) if i == 0 or c[1] > calls[i - 1][1]]
+    longest = lambda points: max(b[0] - a[0] for a, b in zip(points, points[1:])) if len(
+        points) > 1 else 0.0
+    return longest(calls), longest(moves)
 
 
 def gates_ok(scored):
@@ -101,13 +118,15 @@ def gates_ok(scored):
 def fmt_row(name, sigma, row):
     if "failed" in row:
         return (f"| {name} | {sigma:g} | – | refused: {row['failed']} | – | – | – | "
-                f"{row['wall']:.1f} | {row['peak_mb']:.0f} | – |")
+                f"{row['wall']:.1f} | {row['peak_mb']:.0f} | – | – |")
     s = row["scored"]
     stages = ", ".join(f"{k} {v:.1f}" for k, v in row["stage_seconds"].items())
+    gaps = row.get("progress_gaps")
+    gaps = f"{gaps[0]:.1f} / {gaps[1]:.1f}" if gaps else "–"
     return (f"| {name} | {sigma:g} | {row['faces']:,} | "
             f"{'yes' if gates_ok(s) else 'NO'} | {row['charts']} | {s['l2']:.4f} | "
             f"{s['linf']:.2f} | {row['seconds']:.1f} ({stages}) | {row['peak_mb']:.0f} | "
-            f"{row['cpu_over_wall']:.2f} |")
+            f"{row['cpu_over_wall']:.2f} | {gaps} |")
 
 
 def main():
@@ -126,10 +145,12 @@ def main():
     work = CACHE / "runs"
     lines = [f"Scan-like meshes (bench/scans.py; texture {args.texture_size}², gutter 2, float "
              "texture coordinates as MeshLab stores them; seconds are the report's, without file "
-             "I/O; CPU/wall over the whole process):", "",
+             "I/O; CPU/wall over the whole process; progress: the longest wait for a call of the "
+             "progress callback / for its percentage to move, in seconds, as a front end's bar "
+             "gets them):", "",
              "| mesh | noise σ | faces | every hard gate | charts | L2 | L∞ | seconds (stages) | "
-             "peak MB | CPU / wall |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "peak MB | CPU / wall | progress s |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     held_out = []
     charts = {}
     for name, source, subdivisions, holes, debris, out_of_tuning in meshes:

@@ -6,6 +6,7 @@
 // else, and no output file left behind.
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -109,6 +110,9 @@ options:
                      "output's, float for .ply, double for .obj.");
   text += optionHelp("--report FILE.json", "Also write the report to FILE.json.");
   text += optionHelp("--quiet", "Do not print the report.");
+  text += optionHelp("--progress",
+                     "Print the progress a front end's bar gets to stderr, a line per call of its "
+                     "callback: `progress STAGE PERCENT% SECONDS`.");
   text += optionHelp("--help", "Show this help.");
   text += optionHelp("--version", "Show the version.");
   text += optionHelp("--", "End of options (for file names starting with '-').");
@@ -128,7 +132,8 @@ struct Arguments {
   std::string report_path;  // empty: no report file
   sdp::filter::FilterValues values = sdp::filter::defaultValues();
   bool quiet = false;
-  bool atlas = false;  // --atlas: the atlas filter's table and pipeline
+  bool progress = false;  // --progress: the progress callback's calls on stderr
+  bool atlas = false;     // --atlas: the atlas filter's table and pipeline
   // --uv-storage: the texture coordinates' storage the map is made one-to-one in; by default the
   // output's (PLY float, OBJ double). `float6` is MeshLab's (float in memory, 6 decimals in OBJ).
   std::optional<sdp::UVStorage> storage;
@@ -204,8 +209,9 @@ Action parseArguments(int argc, char** argv, Arguments& args) {
       options_ended = true;
       continue;
     }
-    if (arg == "--quiet" || arg == "--atlas") {
+    if (arg == "--quiet" || arg == "--atlas" || arg == "--progress") {
       args.quiet |= arg == "--quiet";
+      args.progress |= arg == "--progress";
       continue;
     }
     if (const auto* p = cliParameter(arg, args.atlas);
@@ -316,9 +322,22 @@ sdp::UVStorage storageFor(const Arguments& args) {
   return lowercaseExtension(args.output) == ".ply" ? sdp::UVStorage::Float : sdp::UVStorage::Double;
 }
 
+// With --progress, a callback that prints each call, with its time, on stderr.
+sdp::ProgressCallback progressPrinter(const Arguments& args) {
+  if (!args.progress) return {};
+  const auto start = std::chrono::steady_clock::now();
+  return [start](const char* stage, int percent) {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "progress %s %d%% %.2f\n", stage, percent, seconds);
+    return true;
+  };
+}
+
 int runAtlas(const Arguments& args, const sdp::io::MeshData& mesh) {
   sdp::atlas::AtlasOptions options = sdp::filter::toAtlasOptions(args.values);
   options.storage = storageFor(args);
+  if (args.progress) options.chart.progress = progressPrinter(args);
   sdp::atlas::AtlasResult result = sdp::atlas::makeAtlas(mesh.V, mesh.F, options);
   std::vector<std::string>& notes = result.report.notes;
   notes.insert(notes.begin(), mesh.notes.begin(), mesh.notes.end());
@@ -339,6 +358,7 @@ int run(const Arguments& args) {
   options.source_vertex = args.values.source_vertex;  // the file's numbering is the core's
   options.storage.fit_unit_square = !args.values.natural_scale;
   options.storage.precision = storageFor(args);
+  if (args.progress) options.progress = progressPrinter(args);
   sdp::Result result = sdp::parameterize(mesh.V, mesh.F, options);
   sdp::Report& report = result.report;
   report.notes.insert(report.notes.begin(), mesh.notes.begin(), mesh.notes.end());

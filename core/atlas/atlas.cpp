@@ -11,6 +11,7 @@
 #include <new>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "charts.h"
 #include "convex_cut.h"
@@ -43,7 +44,19 @@ struct Chart {
   std::vector<std::array<int, 3>> corner_row;  // per face of `faces`
   ChartReport report;
   double linear_work = 0, refine_work = 0;
+  std::vector<std::pair<std::string, double>> stage_work;  // the patch pipeline's, per stage
 };
+
+// Adds `amount` to the entry `key`, or appends it: stages in the order first met.
+void addToStage(std::vector<std::pair<std::string, double>>& stages, const std::string& key,
+                double amount) {
+  for (auto& entry : stages)
+    if (entry.first == key) {
+      entry.second += amount;
+      return;
+    }
+  stages.emplace_back(key, amount);
+}
 
 // Work keys of the refinement stages (progress.h), the rest being the linear map's.
 bool isRefineStage(const std::string& key) {
@@ -114,6 +127,7 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
     chart.report.fallbacks = r.report.fallbacks.total();
     for (const auto& [key, work] : r.report.stage_work)
       (isRefineStage(key) ? chart.refine_work : chart.linear_work) += work;
+    chart.stage_work = r.report.stage_work;
     chart.report.area = facesArea(V, F, faces);
     return true;
   } catch (const ParameterizationError& e) {
@@ -263,9 +277,10 @@ class AtlasBuilder {
       : V_(V), F_(F), options_(options), start_(start) {}
 
   AtlasResult run(const Connectivity& connectivity) {
-    report(0);
+    report(kConnectivityPercent);
     auto stage = start_;
     const FaceGraph graph = buildFaceGraph(V_, F_, connectivity);
+    report(kConnectivityPercent + 1);
     AtlasReport& r = result_.report;
     r.vertices = connectivity.vertices;
     r.faces = connectivity.faces;
@@ -293,16 +308,15 @@ class AtlasBuilder {
         charts_.push_back(singleFaceChart(V_, F_, f, true, mean_edge));
       }
     std::vector<std::vector<int>> pieces = components(graph);
+    report(kConnectivityPercent + 2);
     r.components = static_cast<int>(pieces.size());
     checkRoomForCharts(r.zero_area_faces + r.components);
+    report(kCutPercent);
+    addToStage(r.stage_seconds, "cut", secondsSince(stage));
     makeCharts(graph, std::move(pieces));
     scratch_.clear();  // about 12 bytes a face each: not kept through packing and storage
-    r.stage_seconds.emplace_back("charts", secondsSince(stage));
 
-    stage = Clock::now();
-    report(90);
     packAndStore();
-    r.stage_seconds.emplace_back("pack_and_store", secondsSince(stage));
     r.seconds = secondsSince(start_);
     report(100);
     return std::move(result_);
@@ -324,12 +338,30 @@ class AtlasBuilder {
           std::to_string(most) + "): raise the texture size or lower the gutter");
   }
 
-  // Calls the user's progress callback (on the calling thread only); a cancel is noted and
-  // thrown.
+  // The progress bar, in percent where each stage starts: the charts (cut, then flattened and
+  // split round by round, counted by faces charted), the packing tries (each half of what is
+  // left, counted by charts placed), storage and measures. Shares near the stages' time at a
+  // million faces and more (`stage_seconds`), so the bar moves every few seconds there.
+  static constexpr int kConnectivityPercent = 1, kCutPercent = 4, kFlattenPercent = 14,
+                       kPackPercent = 68, kStorePercent = 90, kMeasurePercent = 96;
+
+  // Calls the user's progress callback when the percentage moved, or a second after the last
+  // call (a front end that redraws in its callback stays responsive), on the calling thread only
+  // (front ends' callbacks are not thread-safe): never backwards; a cancel is noted and thrown.
   void report(int percent) {
+    if (std::this_thread::get_id() != caller_) return;
     const ProgressCallback& callback = options_.chart.progress;
-    if (callback && !callback("atlas", percent)) cancelled_ = true;
+    percent = std::max(std::clamp(percent, 0, 100), last_percent_);
+    if (callback && (percent > last_percent_ || secondsSince(last_call_) >= 1.0)) {
+      last_call_ = Clock::now();
+      if (!callback("atlas", percent)) cancelled_ = true;
+    }
+    last_percent_ = percent;
     if (cancelled_) throw ParameterizationError("cancelled by the user");
+  }
+  // `done` of `expected` of the part of the bar from `from` to `to`.
+  void reportWithin(int from, int to, double done, double expected) {
+    report(from + static_cast<int>((to - from) * std::min(1.0, done / std::max(expected, 1.0))));
   }
 
   // A set of faces still to be charted, with the part of an earlier map it may keep.
@@ -357,16 +389,27 @@ class AtlasBuilder {
     int charted_faces = 0;
     std::vector<Piece> pending;
     for (std::vector<int>& faces : pieces) pending.push_back({std::move(faces), {}});
-    while (!pending.empty()) {
+    // The bar's room for the charts: two thirds for the first round (most of the work), then
+    // half of what is left for each next; flattening fills nine tenths of a round's share.
+    double round_from = kFlattenPercent;
+    for (int round = 0; !pending.empty(); ++round) {
+      const double round_to =
+          round_from + (round == 0 ? 2.0 / 3 : 0.5) * (kPackPercent - round_from);
+      auto stage = Clock::now();
       std::vector<Piece> disks = sortIntoDisks(graph, std::move(pending), charted_faces);
       pending.clear();
+      addToStage(r.stage_seconds, "cut", secondsSince(stage));
+      stage = Clock::now();
       // Largest first, so the long ones start early.
       std::stable_sort(disks.begin(), disks.end(), [](const Piece& a, const Piece& b) {
         return a.faces.size() > b.faces.size();
       });
       std::vector<Chart> flat(disks.size());
       std::vector<char> ok(disks.size(), 0);
-      std::atomic<int> done_faces{charted_faces};
+      double round_faces = 0;
+      for (const Piece& disk : disks) round_faces += static_cast<double>(disk.faces.size());
+      std::atomic<int> done_faces{0};
+      const int split_from = static_cast<int>(round_from + 0.9 * (round_to - round_from));
       parallelForAlongside(
           static_cast<int>(disks.size()), 1, [] {},
           [&](int begin, int end, int worker) {
@@ -381,7 +424,8 @@ class AtlasBuilder {
                 ok[i] = flattenChart(V_, F_, faces, chartOptions(faces.size()), flat[i], why);
               }
               done_faces += static_cast<int>(faces.size());
-              if (worker == 0) report(5 + 80 * done_faces / std::max(result_.report.faces, 1));
+              if (worker == 0)
+                reportWithin(static_cast<int>(round_from), split_from, done_faces, round_faces);
             }
           });
       if (cancelled_) throw ParameterizationError("cancelled by the user");
@@ -389,11 +433,16 @@ class AtlasBuilder {
       for (const Chart& chart : flat) {
         linear_work_ += chart.linear_work;
         refine_work_ += chart.refine_work;
+        for (const auto& [key, work] : chart.stage_work) addToStage(r.stage_work, key, work);
         r.chart_fallbacks += chart.report.fallbacks;  // 0 for a kept map
       }
+      addToStage(r.stage_seconds, "flatten", secondsSince(stage));
+      stage = Clock::now();
       std::vector<Outcome> outcomes(disks.size());
+      std::atomic<int> decided{0};
       forEachWithScratch(graph, static_cast<int>(disks.size()), [&](int i, FaceScratch& scratch) {
         outcomes[i] = outcome(graph, disks[i].faces, flat[i], ok[i], scratch);
+        reportWithin(split_from, static_cast<int>(round_to), ++decided, disks.size());
       });
       for (size_t i = 0; i < disks.size(); ++i) {
         Outcome& o = outcomes[i];
@@ -404,24 +453,37 @@ class AtlasBuilder {
         if (o.split) ++r.charts_split;
         for (Piece& piece : o.pieces) pending.push_back(std::move(piece));
       }
+      addToStage(r.stage_seconds, "split", secondsSince(stage));
+      report(static_cast<int>(round_to));
+      round_from = round_to;
     }
   }
 
   // Calls body(i, scratch) for i in [0, n) on the workers, each with its own FaceScratch (made
-  // when first needed; at most kMostScratchWorkers of them, as each is about 14 bytes a face).
+  // when first needed; at most kMostScratchWorkers of them, as each is about 14 bytes a face);
+  // i = `on_caller` (if in range) first, on the calling thread.
   template <class Body>
-  void forEachWithScratch(const FaceGraph& graph, int n, Body&& body) {
+  void forEachWithScratch(const FaceGraph& graph, int n, Body&& body, int on_caller = -1) {
     // Kept for the whole run: a round late in the charts has few pieces, and making the scratch
     // anew for each cost 0.08 s a round at 13.6M faces.
     std::vector<std::unique_ptr<FaceScratch>>& scratch = scratch_;
     if (scratch.empty()) scratch.resize(kMostScratchWorkers);
+    auto scratchOf = [&](int worker) -> FaceScratch& {
+      if (!scratch[worker]) scratch[worker] = std::make_unique<FaceScratch>(graph);
+      return *scratch[worker];
+    };
+    const bool caller_first = on_caller >= 0 && on_caller < n;
     parallelForAlongside(
-        n, 1, [] {},
+        n, 1,
+        [&] {
+          if (caller_first) body(on_caller, scratchOf(0));  // the calling thread is worker 0
+        },
         [&](int begin, int end, int worker) {
-          if (!scratch[worker]) scratch[worker] = std::make_unique<FaceScratch>(graph);
+          FaceScratch& own = scratchOf(worker);
           for (int i = begin; i < end; ++i) {
             if (cancelled_) return;
-            body(i, *scratch[worker]);
+            if (caller_first && i == on_caller) continue;
+            body(i, own);
           }
         },
         kMostScratchWorkers);
@@ -437,15 +499,33 @@ class AtlasBuilder {
                                    int& charted_faces) {
     std::vector<char> disk(pieces.size(), 0);
     std::vector<std::vector<std::vector<int>>> cut(pieces.size());
-    forEachWithScratch(graph, static_cast<int>(pieces.size()), [&](int i, FaceScratch& scratch) {
-      const std::vector<int>& faces = pieces[i].faces;
-      if (faces.size() == 1) return;
-      disk[i] = regionIsDisk(graph, faces, scratch);
-      if (disk[i]) return;
-      const int parts =
-          std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
-      cut[i] = splitFaces(graph, faces, parts, scratch);
-    });
+    // Before the first flattening the bar follows the growth of the parts (three growths over
+    // every face in the worst case), which takes the longest piece's growth: that piece is cut
+    // on the calling thread, which alone may call the progress callback.
+    std::atomic<long long> grown{0};
+    double expected = 0;
+    int largest = 0;
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      expected += 3.0 * static_cast<double>(pieces[i].faces.size());
+      if (pieces[i].faces.size() > pieces[largest].faces.size()) largest = static_cast<int>(i);
+    }
+    const bool first = last_percent_ < kFlattenPercent;
+    const GrowthProgress growth = [&](int faces) {
+      grown += faces;
+      if (first) reportWithin(kCutPercent, kFlattenPercent, grown, expected);
+    };
+    forEachWithScratch(
+        graph, static_cast<int>(pieces.size()),
+        [&](int i, FaceScratch& scratch) {
+          const std::vector<int>& faces = pieces[i].faces;
+          if (faces.size() == 1) return;
+          disk[i] = regionIsDisk(graph, faces, scratch);
+          if (disk[i]) return;
+          const int parts =
+              std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
+          cut[i] = splitFaces(graph, faces, parts, scratch, &growth);
+        },
+        largest);
     std::vector<Piece> ready;
     for (size_t i = 0; i < pieces.size(); ++i) {
       if (pieces[i].faces.size() == 1) {
@@ -592,14 +672,28 @@ class AtlasBuilder {
     PackOptions pack;
     pack.texture_size = options_.texture_size;
     pack.gutter = options_.gutter;
+    // The scale search's tries get shares of the bar's room for packing: at a million faces
+    // and more it takes two (pack.cpp), each as long as the other; later tries halve what is left.
+    pack.progress = [this](int placed, int n, int attempt) {
+      double from = 0, to = 0.5;  // of the room
+      for (int a = 0; a < attempt; ++a) from = to, to = a == 0 ? 0.9 : to + 0.5 * (1 - to);
+      const double part = from + (to - from) * placed / std::max(n, 1);
+      report(kPackPercent + static_cast<int>((kStorePercent - kPackPercent) * part));
+    };
     for (int attempt = 0;; ++attempt) {
+      auto stage = Clock::now();
       const Packing packing = packCharts(shapes, pack);
       Layout layout = packedLayout(shapes, packing);
+      addToStage(r.stage_seconds, "pack", secondsSince(stage));
+      report(kStorePercent);
+      stage = Clock::now();
       StoragePolicy policy;
       policy.precision = options_.storage;
       const StorageCounts counts = store(layout, policy);
+      report(kStorePercent + 3);
       const PixelMeasures pixels =
           measurePixels(layout, layout.chart, options_.texture_size, options_.gutter);
+      addToStage(r.stage_seconds, "store", secondsSince(stage));
       if (pixels.overlapping_pixels == 0 && pixels.gutter_violations == 0) {
         r.texels_per_unit = packing.texels_per_unit;
         r.storage = uvStorageName(options_.storage);
@@ -642,7 +736,10 @@ class AtlasBuilder {
 
   void finish(Layout layout) {
     AtlasReport& r = result_.report;
+    report(kMeasurePercent);
+    const auto stage = Clock::now();
     const StretchMetrics stretch = layoutStretch(V_, F_, layout);
+    report(kMeasurePercent + 2);
     if (stretch.flipped_faces > 0)
       throw ParameterizationError("internal error: the stored atlas has flipped faces");
     const AtlasMeasures measures = measureAtlas(V_, F_, layout, 0, 0);
@@ -663,12 +760,16 @@ class AtlasBuilder {
                         " pieces by their stored texture coordinates");
     result_.face_stretch = stretch.face_l2;
     result_.layout = std::move(layout);
+    addToStage(r.stage_seconds, "measure", secondsSince(stage));
   }
 
   const Positions& V_;
   const Triangles& F_;
   const AtlasOptions& options_;
   const Clock::time_point start_;
+  const std::thread::id caller_ = std::this_thread::get_id();
+  int last_percent_ = -1;  // the last percentage reported, on the calling thread
+  Clock::time_point last_call_ = Clock::now();
   AtlasResult result_;
   std::vector<Chart> charts_;
   static constexpr int kMostScratchWorkers = 4;
@@ -711,6 +812,9 @@ AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const Atl
 AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions& options) {
   try {
     const Clock::time_point start = Clock::now();
+    // The bar starts before the connectivity, which takes seconds at millions of faces.
+    if (options.chart.progress && !options.chart.progress("atlas", 0))
+      throw ParameterizationError("cancelled by the user");
     checkInput(V, F, options);
     const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()));
     if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
@@ -795,11 +899,25 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
        [](R r) { return jsonInt(r.storage_degenerate_faces); }},
       {"storage_moved_vertices", "UVs the storage repair moved",
        [](R r) { return jsonInt(r.storage_moved_vertices); }},
-      {"stage_seconds", "seconds per stage, in run order",
+      {"stage_seconds",
+       "seconds per stage, in run order: `connectivity`, `cut` (pieces tested for disks and cut "
+       "into disks), `flatten` (charts flattened by the patch pipeline), `split` (chart limits "
+       "checked, charts split), `pack`, `store` (rounding to the storage, its repair and the "
+       "pixel check), `measure`; each summed over the rounds",
        [](R r) {
          std::vector<std::pair<std::string, std::string>> stages;
          for (const auto& [stage, seconds] : r.stage_seconds)
            stages.emplace_back(stage, jsonNumber(seconds));
+         return jsonObject(stages);
+       }},
+      {"stage_work",
+       "the patch pipeline's work per stage (its report's `stage_work` keys), summed over every "
+       "chart flattening: units of about a nanosecond of one core here, counted from sizes and "
+       "iterations, the same on every run",
+       [](R r) {
+         std::vector<std::pair<std::string, std::string>> stages;
+         for (const auto& [stage, work] : r.stage_work)
+           stages.emplace_back(stage, jsonNumber(work));
          return jsonObject(stages);
        }},
       {"warnings", "one line per fallback or notice",

@@ -88,7 +88,11 @@ struct AtlasReport {
   int storage_degenerate_faces = 0, storage_moved_vertices = 0;
   double refinement_work = 0;  // over all charts, as a multiple of their linear maps' work
   double seconds = 0;
+  // connectivity, cut (disk tests, cuts into disks), flatten, split (chart limits, splits),
+  // pack, store (rounding, repair, pixel check), measure; seconds summed over the rounds.
   std::vector<std::pair<std::string, double>> stage_seconds;
+  // The patch pipeline's counted work (work.h) per its stage, over every chart flattening.
+  std::vector<std::pair<std::string, double>> stage_work;
   std::vector<std::string> warnings, notes;
   std::vector<ChartReport> chart_table;
 

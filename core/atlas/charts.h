@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "core/connectivity.h"
@@ -46,9 +47,13 @@ constexpr int kOutside = -2;     // not part of the faces being split
 // regions until none is left. Growth prefers faces whose normal is close to the region's mean
 // normal, and `compactness` weighs the distance walked from the seed (in units of `length`).
 // Returns the number of regions made.
+// Told, now and then, how many faces a growth took since it last told (from the thread that
+// grows; a split into halves grows on two).
+using GrowthProgress = std::function<void(int faces)>;
+
 int growRegions(const FaceGraph& graph, const std::vector<int>& faces,
                 const std::vector<int>& seeds, int first_id, double compactness, double length,
-                std::vector<int>& region);
+                std::vector<int>& region, const GrowthProgress* progress = nullptr);
 
 // Per-face and per-vertex scratch, sized to the mesh once and reset entry by entry, so that
 // splitting or checking a set of faces costs in proportion to the set, not to the mesh (a
@@ -64,7 +69,8 @@ struct FaceScratch {
 // along the surface and improved by a few Lloyd steps (each seed moved to the most typical face
 // of its piece). More pieces than asked come back when growth left faces over.
 std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vector<int>& faces,
-                                         int parts, FaceScratch& scratch);
+                                         int parts, FaceScratch& scratch,
+                                         const GrowthProgress* progress = nullptr);
 
 // True when the faces form a disk (one consistently oriented manifold piece with
 // one boundary loop and Euler characteristic 1).

@@ -296,7 +296,7 @@ constexpr int kSlicesPerTurn = 2;
 // or INT_MAX when a chart is wider than the texture.
 int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
            const std::vector<std::vector<int>>& loops, const std::vector<int>& order, double scale,
-           const PackOptions& options, std::vector<Placement>& placements) {
+           const PackOptions& options, int attempt, std::vector<Placement>& placements) {
   const int size = options.texture_size;
   const int reach = std::max(options.gutter - 1, 0);
   Occupancy occupancy(size);
@@ -306,7 +306,11 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
       return top != o.top ? top < o.top : y != o.y ? y < o.y : x < o.x;
     }
   };
-  for (int c : order) {
+  const int n = static_cast<int>(order.size());
+  for (int placed = 0; placed < n; ++placed) {
+    const int c = order[placed];
+    // A few calls per pack: enough for a progress bar to move during a long one.
+    if (options.progress && placed % 16 == 0) options.progress(placed, n, attempt);
     std::vector<Eigen::Vector2d> p(charts[c].uv.size());
     for (size_t i = 0; i < p.size(); ++i) p[i] = box[c] * charts[c].uv[i] * scale;
     // Each quarter turn and slice searched on its own (so in parallel), each keeping its lowest
@@ -421,8 +425,7 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
   double last_scale = 0, last_height = 0;
   for (int attempt = 0; attempt < (fits > 0 ? kMostTries : kMostTriesToFit) && fails > 1.005 * fits;
        ++attempt) {
-    ++attempts;
-    const int height = packAt(charts, box, loops, order, scale, options, trial);
+    const int height = packAt(charts, box, loops, order, scale, options, attempts++, trial);
     if (height <= size) {
       fits = scale;
       placements = trial;

@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace sdp::atlas {
@@ -45,6 +46,9 @@ struct PackOptions {
   // Largest scale tried, relative to the one where the charts' area fills the square: a scale
   // is accepted only below this.
   double shrink = 1.0;
+  // Called on the calling thread as charts are placed: `placed` of `charts` in the `attempt`-th
+  // pack (from 0) of the scale search; may be empty.
+  std::function<void(int placed, int charts, int attempt)> progress;
 };
 
 // The area the triangles cover in the plane (each counted positive).

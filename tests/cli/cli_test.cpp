@@ -444,6 +444,36 @@ std::string closedOff() {
 
 }  // namespace
 
+TEST_F(CliTest, ProgressPrintsTheCallbacksCallsFromZeroToAHundred) {
+  const std::string in = (dir_ / "closed.off").string();
+  std::ofstream(in) << closedOff();
+  for (const bool atlas : {true, false}) {
+    std::vector<std::string> args = {in, outPath("a.ply"), "--progress", "--quiet"};
+    if (atlas)
+      args.push_back("--atlas");
+    else
+      args[0] = kNefertiti;
+    const ToolRun r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::vector<int> percents;
+    for (const std::string& line : linesOf(r.err)) {
+      char stage[64];
+      int percent = -1;
+      double seconds = -1;
+      if (std::sscanf(line.c_str(), "progress %63s %d%% %lf", stage, &percent, &seconds) == 3) {
+        EXPECT_GE(seconds, 0) << line;
+        percents.push_back(percent);
+      }
+    }
+    ASSERT_GE(percents.size(), 3u) << r.err;
+    if (atlas) {
+      EXPECT_EQ(percents.front(), 0);
+      EXPECT_TRUE(std::is_sorted(percents.begin(), percents.end())) << r.err;
+    }
+    EXPECT_EQ(percents.back(), 100) << r.err;
+  }
+}
+
 TEST_F(CliTest, AtlasOfAClosedMeshWritesTexturedObjAndReport) {
   const std::string in = (dir_ / "closed.off").string();
   std::ofstream(in) << closedOff();

@@ -5,12 +5,15 @@
 // every run; and bad input refused with one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
+#include <thread>
 
 #include "core/atlas/atlas.h"
 #include "core/atlas/charts.h"
@@ -487,10 +490,33 @@ TEST(Atlas, MorePiecesThanTheTextureHoldsAreRefusedBeforeCharting) {
     EXPECT_NE(why.find("raise the texture size"), std::string::npos) << why;
     EXPECT_EQ(why.find('\n'), std::string::npos);
   }
-  EXPECT_EQ(highest, 0);
+  EXPECT_LE(highest, 3);  // the connectivity's share of the bar: no chart was cut or flattened
   // With a texture twice as wide the same soup is charted.
   o.texture_size = 128;
   EXPECT_EQ(makeAtlas(V, F, o).report.charts, 1025);
+}
+
+TEST(Atlas, ProgressRisesToAHundredOnTheCallingThreadOnly) {
+  // Front ends redraw their bar in the callback, which is not thread-safe: every call comes from
+  // the thread that called makeAtlas, the percentage never falls, and it moves through the run.
+  const Mesh mesh = sphere(5);
+  AtlasOptions o = quickOptions();
+  std::vector<int> seen;
+  bool other_thread = false;
+  const std::thread::id caller = std::this_thread::get_id();
+  o.chart.progress = [&](const char* stage, int percent) {
+    other_thread |= std::this_thread::get_id() != caller;
+    EXPECT_STREQ(stage, "atlas");
+    seen.push_back(percent);
+    return true;
+  };
+  makeAtlas(mesh.V, mesh.F, o);
+  EXPECT_FALSE(other_thread);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.front(), 0);
+  EXPECT_EQ(seen.back(), 100);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_GE(std::set<int>(seen.begin(), seen.end()).size(), 8u);
 }
 
 TEST(Atlas, CancelStopsTheRun) {
@@ -692,6 +718,44 @@ TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
   // The parts meet across the square: a straight cut there is 1 long; the border as grown is a
   // zig-zag about 15 % longer (1.15 here before the ears are moved, 1.03 after).
   EXPECT_LT(cut, 1.08) << cut;
+}
+
+TEST(AtlasCharts, LargeSplitGrownInHalvesCoversEveryFaceOnceWithDisks) {
+  // Over 200k faces the parts grow in two halves at once (charts.cpp): every face still in one
+  // part, every part a disk, the scratch left as found, and the same parts on a second run.
+  const int n = 320;
+  Mesh mesh;
+  mesh.V.resize((n + 1) * (n + 1), 3);
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) {
+      const double u = double(x) / n, v = double(y) / n;
+      mesh.V.row(y * (n + 1) + x) << u, v, 0.1 * std::sin(6 * u) * std::cos(4 * v);
+    }
+  mesh.F.resize(2 * n * n, 3);
+  for (int y = 0, f = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const int a = y * (n + 1) + x, b = a + 1, c = a + n + 2, d = a + n + 1;
+      mesh.F.row(f++) << a, b, c;
+      mesh.F.row(f++) << a, c, d;
+    }
+  ASSERT_GE(mesh.F.rows(), 200000);
+  const Connectivity connectivity = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
+  const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, connectivity);
+  std::vector<int> faces(mesh.F.rows());
+  std::iota(faces.begin(), faces.end(), 0);
+  FaceScratch scratch(graph);
+  const auto parts = splitFaces(graph, faces, 600, scratch);
+  EXPECT_GE(parts.size(), 400u);  // grid seeds: about one per part
+  std::vector<int> times(faces.size(), 0);
+  for (const auto& part : parts) {
+    ASSERT_FALSE(part.empty());
+    EXPECT_TRUE(regionIsDisk(graph, part, scratch));
+    for (int f : part) ++times[f];
+  }
+  EXPECT_EQ(std::count(times.begin(), times.end(), 1), static_cast<long>(faces.size()));
+  EXPECT_EQ(std::count(scratch.region.begin(), scratch.region.end(), kOutside),
+            static_cast<long>(faces.size()));
+  EXPECT_EQ(splitFaces(graph, faces, 600, scratch), parts);
 }
 
 }  // namespace
