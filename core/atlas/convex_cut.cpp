@@ -115,12 +115,6 @@ std::optional<ConvexCut> bestConvexCut(const std::vector<Eigen::Vector2d>& uv,
     }
     for (int o = 1; o < kOffsets; ++o) {
       const double offset = low + (high - low) * o / kOffsets;
-      const std::vector<Eigen::Vector2d> below = clip(polygon, height, offset, 1);
-      const std::vector<Eigen::Vector2d> above = clip(polygon, height, offset, -1);
-      const double below_area = polygonArea(below), above_area = polygonArea(above);
-      if (below_area < min_share * area || above_area < min_share * area) continue;
-      const double gain = hull - hullArea(below) - hullArea(above);
-      if (!(gain > 0)) continue;
       // The line's length inside the chart: its crossings with the border, paired in order.
       std::vector<double> along;
       const Eigen::Vector2d tangent(-normal.y(), normal.x());
@@ -135,6 +129,16 @@ std::optional<ConvexCut> bestConvexCut(const std::vector<Eigen::Vector2d>& uv,
       if (along.size() != 2) continue;
       const double length = std::abs(along[1] - along[0]);
       if (!(length > 0)) continue;
+      const std::vector<Eigen::Vector2d> below = clip(polygon, height, offset, 1);
+      const std::vector<Eigen::Vector2d> above = clip(polygon, height, offset, -1);
+      const double below_area = polygonArea(below), above_area = polygonArea(above);
+      if (below_area < min_share * area || above_area < min_share * area) continue;
+      // Each side's hull holds at least its own area, so the gain is at most the hull minus
+      // both areas: a line that cannot beat the best even so needs no hulls (the costly part,
+      // a sort each). The slack keeps rounding from skipping a line that would win.
+      if ((hull - below_area - above_area) / length < best_score * (1 - 1e-9)) continue;
+      const double gain = hull - hullArea(below) - hullArea(above);
+      if (!(gain > 0)) continue;
       const double score = gain / length;
       if (score > best_score) {
         best_score = score;

@@ -131,12 +131,12 @@ class CheckFailed(Exception):
 class Gui:
     """Xvfb + MeshLab + the xdotool/ImageMagick calls the test makes."""
 
-    def __init__(self, out):
+    def __init__(self, out, total_timeout=TOTAL_TIMEOUT):
         self.out = out
         self.xvfb = None
         self.meshlab = None
         self.env = None
-        self.deadline = time.monotonic() + TOTAL_TIMEOUT
+        self.deadline = time.monotonic() + total_timeout
         self.started = time.monotonic()
         self.root_folder = None  # the run's folder inside a Debian root, removed at the end
         self.system_plugin = None  # our plugin in a root's system plugin folder, removed too
@@ -352,11 +352,15 @@ def render_stats(path, box):
     return {"dark": dark / n, "light": light / n, "red": red / n, "alternations": alternations}
 
 
+MIN_RED = 0.001  # --min-red
+
+
 def shows_checkerboard(s):
     # Red: the grid lines are one texel wide, thinner than a screen pixel at this zoom, so the
-    # share that stays red follows the texel density (the torus's 6-chart atlas: 0.16 %); before
-    # Apply only the trackball's red axis shows (2025.07: 0.04 %).
-    return (s["dark"] >= 0.03 and s["light"] >= 0.03 and s["red"] >= 0.001
+    # share that stays red follows the texel density (the torus's 6-chart atlas: 0.16 %; a
+    # 1.36M-face scan's atlas at 2048: 0.03 %); before Apply only the trackball's red axis shows
+    # (2025.07: 0.04 %).
+    return (s["dark"] >= 0.03 and s["light"] >= 0.03 and s["red"] >= MIN_RED
             and s["alternations"] >= 800)
 
 
@@ -591,8 +595,10 @@ def run_test(args, gui):
     log_before = gui.log_text()
     gui.click(dialog, dw * 3 // 4, dh - 23)
     applied = APPLIED_LINE % re.escape(target)
-    gui.wait_for("'%s' in MeshLab's log" % applied,
-                 lambda: re.search(applied, gui.log_text()[len(log_before):]), timeout=120)
+    is_applied = lambda: re.search(applied, gui.log_text()[len(log_before):])
+    if args.watch_progress:
+        watch_progress(gui, is_applied, args.apply_timeout)
+    gui.wait_for("'%s' in MeshLab's log" % applied, is_applied, timeout=args.apply_timeout)
     # The patch filter's line "L2 stretch ..., flipped faces 0, ...", the atlas's
     # "charts N, ..., flipped_faces 0, ..." (the report table's keys).
     marker, clean = (("charts ", "flipped_faces 0") if args.filter == "atlas" else
@@ -660,6 +666,40 @@ def run_test(args, gui):
            % (gui.meshlab.returncode, " and Yes to the save prompt" if answered else ""))
 
 
+def watch_progress(gui, is_applied, timeout):
+    """While the filter runs, the main window's status bar (its bottom 24 px, where MeshLab
+    shows its progress bar) is read about twice a second; each time its pixels change is a move
+    the user sees. Writes progress.txt (seconds since Apply, changed or not) and a screenshot
+    of the whole screen at the first change after each 10 s (progress_NN.png); passes with the
+    longest wait between changes."""
+    x, y, w, h = gui.geometry(gui.main)
+    box = (x, y + h - 24, w, 24)
+    started = time.monotonic()
+    end = started + timeout
+    samples, last, shots = [], None, 0
+    while not is_applied():
+        if time.monotonic() > end:
+            raise CheckFailed("the filter did not finish within %d s" % timeout)
+        now = time.monotonic() - started
+        path = gui.screenshot("progress_frame.png")
+        pixels = read_region(path, box)
+        changed = pixels != last
+        last = pixels
+        samples.append((now, changed))
+        if changed and now >= 10 * shots:
+            shots += 1
+            shutil.copyfile(path, os.path.join(gui.out, "progress_%02d.png" % shots))
+        time.sleep(0.3)
+    total = time.monotonic() - started
+    with open(os.path.join(gui.out, "progress.txt"), "w") as f:
+        f.writelines("%.2f %d\n" % (t, c) for t, c in samples)
+    changes = [t for t, c in samples if c] + [total]
+    longest = max((b - a for a, b in zip(changes, changes[1:])), default=total)
+    passed("progress", "the status bar changed %d times in %.1f s of the filter's run (%d reads); "
+           "the longest wait between changes %.1f s" % (len(changes) - 1, total, len(samples),
+                                                         longest))
+
+
 def export_mesh(args, gui, workdir):
     """File -> Export Mesh As (Ctrl+Shift+E, mainwindow_Init.cpp), a file name typed into Qt's
     save dialog, and the saving options dialog accepted with its defaults (OK is its default
@@ -723,10 +763,24 @@ def main():
     parser.add_argument("--export", metavar="NAME.obj",
                         help="after Apply, save the mesh as NAME.obj through File -> Export Mesh "
                         "As with the dialogs' defaults, and check the file's per-wedge UVs")
+    parser.add_argument("--watch-progress", action="store_true",
+                        help="read the status bar's progress bar while the filter runs, and "
+                        "report the longest wait between its moves (progress.txt, "
+                        "progress_NN.png)")
+    parser.add_argument("--min-red", type=float, default=MIN_RED * 100,
+                        help="percent of the 3D view's pixels that must stay red (the grid lines) "
+                        "to count as our checkerboard (default %g; lower for meshes of millions "
+                        "of faces, whose squares are a few pixels)" % (MIN_RED * 100))
+    parser.add_argument("--apply-timeout", type=float, default=120.0,
+                        help="seconds the filter may run (default 120; more for large meshes)")
+    parser.add_argument("--total-timeout", type=float, default=TOTAL_TIMEOUT,
+                        help="seconds the whole run may take (default %d)" % TOTAL_TIMEOUT)
     parser.add_argument("--install", choices=("user", "system"), default="user",
                         help="with --root: the per-user plugin folder of a fresh HOME, or the "
                         "root's system folder (removed again at the end)")
     args = parser.parse_args()
+    global MIN_RED
+    MIN_RED = args.min_red / 100
     if (args.root is None) != (args.meshlab_version == "2020.09"):
         parser.error("--root goes with --meshlab-version 2022.02 or 2025.07")
     if args.root:
@@ -755,7 +809,7 @@ def main():
         elif re.fullmatch(r"(\d\d_\w+|failure)\.png|(meshlab|xvfb)\.log|result\.txt|layout\.json|"
                           + re.escape(texture_name(args)), name):
             os.remove(path)
-    gui = Gui(args.out)
+    gui = Gui(args.out, args.total_timeout)
 
     def on_signal(signum, _frame):
         raise CheckFailed("stopped by signal %d" % signum)
