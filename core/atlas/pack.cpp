@@ -1,6 +1,7 @@
 #include "pack.h"
 
 #include <algorithm>
+#include <atomic>
 #include <climits>
 #include <cmath>
 #include <mutex>
@@ -243,6 +244,11 @@ class Occupancy {
     }
   }
   int top() const { return top_; }  // one above the highest chart cell
+  // The height of the column's filled bottom (0 when its lowest cell is free).
+  int floor(int column) const {
+    const Runs& runs = columns_[column];
+    return !runs.empty() && runs.front().first == 0 ? runs.front().second + 1 : 0;
+  }
 
  private:
   static constexpr int kPasses = 4;
@@ -318,12 +324,19 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
     // lowest of all is the same whatever the order, on any number of cores.
     Footprint turned[4];
     Spot spots[4][kSlicesPerTurn];
+    // Per turn, the lowest top either of its slices has found: a spot above it cannot be the
+    // turn's lowest, so both slices skip it (the turn's lowest is the same in any order).
+    std::atomic<int> turn_top[4];
+    for (std::atomic<int>& top : turn_top) top = INT_MAX;
     auto tryAt = [&](const Footprint& fp, int turn, int x, Spot& local) {
-      const int y =
-          occupancy.lowestFree(fp, x, local.top == INT_MAX ? INT_MAX : local.top - fp.height + 1);
+      const int top = std::min(local.top, turn_top[turn].load(std::memory_order_relaxed));
+      const int y = occupancy.lowestFree(fp, x, top == INT_MAX ? INT_MAX : top - fp.height + 1);
       if (y == INT_MAX) return;
       const Spot spot{y + fp.height, y, x, turn};
       if (spot < local) local = spot;
+      for (int seen = turn_top[turn].load();
+           spot.top < seen && !turn_top[turn].compare_exchange_weak(seen, spot.top);)
+        ;
     };
     auto stride = [&](const Footprint& fp) {
       return std::max({1, fp.width / 8, size / 256});  // at most 256 columns first
@@ -342,9 +355,14 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
       const Footprint& fp = turned[turn];
       if (fp.width > size || fp.height > size) return;
       const int step = stride(fp), columns = (size - fp.width) / step + 1;
+      // Lowest floor under the chart's middle first: a low spot found early lets most of the
+      // others end at their first test. The order changes only how soon.
+      std::vector<std::pair<int, int>> tries;
       for (int k = columns * slice / kSlicesPerTurn; k < columns * (slice + 1) / kSlicesPerTurn;
            ++k)
-        tryAt(fp, turn, k * step, spots[turn][slice]);
+        tries.emplace_back(occupancy.floor(k * step + fp.width / 2), k);
+      std::sort(tries.begin(), tries.end());
+      for (const auto& [floor, k] : tries) tryAt(fp, turn, k * step, spots[turn][slice]);
     };
     // Around each turn's lowest spot in halving steps.
     auto refine = [&](int turn, Spot& local) {
