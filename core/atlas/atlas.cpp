@@ -499,14 +499,14 @@ class AtlasBuilder {
                                    int& charted_faces) {
     std::vector<char> disk(pieces.size(), 0);
     std::vector<std::vector<std::vector<int>>> cut(pieces.size());
-    // Before the first flattening the bar follows the growth of the parts (three growths over
-    // every face in the worst case), which takes the longest piece's growth: that piece is cut
-    // on the calling thread, which alone may call the progress callback.
+    // Before the first flattening the bar follows the cut, in faces: the disk test, the seeds
+    // and three growths over every face in the worst case. The longest piece's cut takes the
+    // longest: it runs on the calling thread, which alone may call the progress callback.
     std::atomic<long long> grown{0};
     double expected = 0;
     int largest = 0;
     for (size_t i = 0; i < pieces.size(); ++i) {
-      expected += 3.0 * static_cast<double>(pieces[i].faces.size());
+      expected += 5.0 * static_cast<double>(pieces[i].faces.size());
       if (pieces[i].faces.size() > pieces[largest].faces.size()) largest = static_cast<int>(i);
     }
     const bool first = last_percent_ < kFlattenPercent;
@@ -521,6 +521,7 @@ class AtlasBuilder {
           if (faces.size() == 1) return;
           disk[i] = regionIsDisk(graph, faces, scratch);
           if (disk[i]) return;
+          growth(static_cast<int>(faces.size()));
           const int parts =
               std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
           cut[i] = splitFaces(graph, faces, parts, scratch, &growth);
@@ -673,10 +674,11 @@ class AtlasBuilder {
     pack.texture_size = options_.texture_size;
     pack.gutter = options_.gutter;
     // The scale search's tries get shares of the bar's room for packing: at a million faces
-    // and more it takes two (pack.cpp), each as long as the other; later tries halve what is left.
+    // and more it takes two or three (pack.cpp), each about as long as the others; later tries
+    // halve what is left.
     pack.progress = [this](int placed, int n, int attempt) {
-      double from = 0, to = 0.5;  // of the room
-      for (int a = 0; a < attempt; ++a) from = to, to = a == 0 ? 0.9 : to + 0.5 * (1 - to);
+      double from = 0, to = 0.45;  // of the room
+      for (int a = 0; a < attempt; ++a) from = to, to = a == 0 ? 0.8 : to + 0.5 * (1 - to);
       const double part = from + (to - from) * placed / std::max(n, 1);
       report(kPackPercent + static_cast<int>((kStorePercent - kPackPercent) * part));
     };

@@ -448,6 +448,7 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
     for (int f : faces) distance[f] = std::numeric_limits<double>::infinity();
   }
 
+  if (progress) (*progress)(static_cast<int>(faces.size()));
   if (faces.size() < kFewestFacesForHalves || seeds.size() < 2) {
     const int made = growLloydParts(graph, faces, std::move(seeds), length, region, progress);
     result.resize(made);

@@ -47,8 +47,9 @@ constexpr int kOutside = -2;     // not part of the faces being split
 // regions until none is left. Growth prefers faces whose normal is close to the region's mean
 // normal, and `compactness` weighs the distance walked from the seed (in units of `length`).
 // Returns the number of regions made.
-// Told, now and then, how many faces a growth took since it last told (from the thread that
-// grows; a split into halves grows on two).
+// Told, now and then, how much of a split's work was done since it last told, in faces: the
+// seeds count once over the faces, each growth once (a split makes three); called from the
+// thread that does the work (a split into halves grows on two).
 using GrowthProgress = std::function<void(int faces)>;
 
 int growRegions(const FaceGraph& graph, const std::vector<int>& faces,

@@ -638,7 +638,7 @@ def run_test(args, gui):
                           % (fmt(render_stats(textured_path, render_box)), fmt(before)))
     # Red by its rise, not a ratio: the trackball's axis is red before Apply, and the grid
     # lines' share follows the packing's texel density.
-    if not (after["dark"] >= 4 * before["dark"] and after["red"] >= before["red"] + 0.001
+    if not (after["dark"] >= 4 * before["dark"] and after["red"] >= before["red"] + MIN_RED
             and after["alternations"] >= 4 * before["alternations"]):
         raise CheckFailed("the 3D view changed too little: after %s, before %s"
                           % (fmt(after), fmt(before)))
@@ -747,6 +747,7 @@ def largest_child(gui, window):
 
 
 def main():
+    global MIN_RED
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--plugin", required=True,
                         help="the 2020.09 libfilter_straightest_param.so")
@@ -779,7 +780,6 @@ def main():
                         help="with --root: the per-user plugin folder of a fresh HOME, or the "
                         "root's system folder (removed again at the end)")
     args = parser.parse_args()
-    global MIN_RED
     MIN_RED = args.min_red / 100
     if (args.root is None) != (args.meshlab_version == "2020.09"):
         parser.error("--root goes with --meshlab-version 2022.02 or 2025.07")
