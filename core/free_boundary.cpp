@@ -179,12 +179,18 @@ double pointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
   return (a + t * ab - p).norm();
 }
 
-bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv, double clearance) {
+namespace {
+
+// Calls meet(e, g) for pairs of the edges that cross or touch (or come closer than `clearance`
+// > 0), apart from neighbours at their shared vertex, until it returns false: a sweep along x,
+// each edge tested against the later edges whose x range starts before its own ends, grown by
+// the clearance (a boundary curve meets few of them).
+template <class Meet>
+void forMeetingEdges(std::vector<BorderEdge> edges, const LocalUVs& uv, double clearance,
+                     Meet&& meet) {
   auto low = [&](const Edge& e) { return std::min(uv[e[0]].x(), uv[e[1]].x()); };
   std::sort(edges.begin(), edges.end(),
             [&](const Edge& a, const Edge& b) { return low(a) < low(b); });
-  // Sweep along x: an edge is tested against the later edges whose x range starts before its
-  // own ends, grown by the clearance (a boundary curve meets few of them).
   for (size_t i = 0; i < edges.size(); ++i) {
     const Edge& e = edges[i];
     const double high = std::max(uv[e[0]].x(), uv[e[1]].x()) + clearance;
@@ -192,14 +198,36 @@ bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv, double cl
       const Edge& g = edges[j];
       if (e[0] == g[0] || e[0] == g[1] || e[1] == g[0] || e[1] == g[1]) continue;
       const Eigen::Vector2d &a = uv[e[0]], &b = uv[e[1]], &c = uv[g[0]], &d = uv[g[1]];
-      if (segmentsMeet(a, b, c, d)) return false;
-      if (clearance > 0 &&
-          std::min({pointSegmentDistance(a, c, d), pointSegmentDistance(b, c, d),
-                    pointSegmentDistance(c, a, b), pointSegmentDistance(d, a, b)}) < clearance)
-        return false;
+      const bool close =
+          segmentsMeet(a, b, c, d) ||
+          (clearance > 0 &&
+           std::min({pointSegmentDistance(a, c, d), pointSegmentDistance(b, c, d),
+                     pointSegmentDistance(c, a, b), pointSegmentDistance(d, a, b)}) < clearance);
+      if (close && !meet(e, g)) return;
     }
   }
-  return true;
+}
+
+}  // namespace
+
+bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv, double clearance) {
+  bool simple = true;
+  forMeetingEdges(std::move(edges), uv, clearance, [&](const Edge&, const Edge&) {
+    simple = false;
+    return false;
+  });
+  return simple;
+}
+
+std::vector<int> verticesOfMeetingEdges(std::vector<BorderEdge> edges, const LocalUVs& uv) {
+  std::vector<int> vertices;
+  forMeetingEdges(std::move(edges), uv, 0, [&](const Edge& e, const Edge& g) {
+    vertices.insert(vertices.end(), {e[0], e[1], g[0], g[1]});
+    return true;
+  });
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  return vertices;
 }
 
 double borderClearance(const std::vector<BorderEdge>& edges, const LocalUVs& uv) {

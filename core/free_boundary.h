@@ -48,6 +48,10 @@ std::vector<BorderEdge> boundaryEdges(const Patch& patch);
 // when two of them come closer than that.
 bool edgesAreSimple(std::vector<BorderEdge> edges, const LocalUVs& uv, double clearance = 0);
 
+// The end vertices of the edges that cross or touch another (not a neighbour at their shared
+// vertex), sorted, each once.
+std::vector<int> verticesOfMeetingEdges(std::vector<BorderEdge> edges, const LocalUVs& uv);
+
 // The clearance the refinement keeps between non-adjacent border edges: kBorderClearance times
 // the border's bounding-box diagonal. Without it a step may stop a hair's breadth from closing a
 // notch (1e-8 of the atlas on a 1.4M-face scan), and the stored values' rounding then makes the

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "core/parameterize.h"
+#include "core/free_boundary.h"
 #include "core/storage.h"
 #include "core/stretch_newton.h"
 #include "test_meshes.h"
@@ -97,6 +98,32 @@ TEST(Storage, FloatStorageIsRepaired) {
   const Result r = storedNeedleGrid(m, UVStorage::Float);
   EXPECT_EQ(r.report.storage_degenerate_faces, 2);
   EXPECT_EQ(nonPositiveFaces(r.layout.uv, m.F, asFloat), 0);
+}
+
+TEST(Storage, BorderThatRoundingMakesTouchItselfIsSeparated) {
+  // One chart of two triangles whose corners lie 3e-9 apart: apart in double, one point once
+  // rounded to float or 6 decimals, so the chart's border would touch itself as stored. The
+  // corners move into their own faces instead of the map being refused.
+  for (const UVStorage storage : {UVStorage::Float, UVStorage::FloatAndSixDecimals}) {
+    const double e = 3e-9;
+    Layout layout;
+    layout.uv.resize(6, 2);
+    layout.uv << 0.2, 0.2, 0.5, 0.2, 0.5, 0.5, 0.5 + e, 0.5 + e, 0.8, 0.5, 0.8, 0.8;
+    layout.face_uv.resize(2, 3);
+    layout.face_uv << 0, 1, 2, 3, 4, 5;
+    layout.chart = {0, 0};
+    ASSERT_TRUE(edgesAreSimple({{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5}, {5, 3}},
+                               LocalUVs{{0.2, 0.2}, {0.5, 0.2}, {0.5, 0.5}, {0.5 + e, 0.5 + e},
+                                        {0.8, 0.5}, {0.8, 0.8}}));
+    StoragePolicy policy;
+    policy.precision = storage;
+    const StorageCounts counts = store(layout, policy);
+    EXPECT_GE(counts.moved_vertices, 1);
+    LocalUVs stored;
+    for (int r = 0; r < 6; ++r) stored.push_back(layout.uv.row(r).transpose());
+    EXPECT_TRUE(edgesAreSimple({{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5}, {5, 3}}, stored));
+    EXPECT_LT((stored[2] - Eigen::Vector2d(0.5, 0.5)).norm(), 0.01);  // a small move
+  }
 }
 
 TEST(Storage, UnitSquareFitSpansZeroToOne) {
