@@ -338,10 +338,11 @@ class AtlasBuilder {
           std::to_string(most) + "): raise the texture size or lower the gutter");
   }
 
-  // The progress bar, in percent where each stage starts: the charts (cut, then flattened and
-  // split round by round, counted by faces charted), the packing tries (each half of what is
-  // left, counted by charts placed), storage and measures. Shares near the stages' time at a
-  // million faces and more (`stage_seconds`), so the bar moves every few seconds there.
+  // The progress bar, in percent where each stage starts: the connectivity, the first cut
+  // (counted in faces), the charts' rounds (by faces flattened, then charts decided), the
+  // packing tries (by charts placed; packAndStore), storage and measures. Shares near the
+  // stages' time at a million faces and more (`stage_seconds`), so the bar moves every few
+  // seconds there.
   static constexpr int kConnectivityPercent = 1, kCutPercent = 4, kFlattenPercent = 14,
                        kPackPercent = 68, kStorePercent = 90, kMeasurePercent = 96;
 
