@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/parameterize.h"
 #include "core/free_boundary.h"
+#include "core/parameterize.h"
 #include "core/storage.h"
 #include "core/stretch_newton.h"
 #include "test_meshes.h"
@@ -112,9 +112,9 @@ TEST(Storage, BorderThatRoundingMakesTouchItselfIsSeparated) {
     layout.face_uv.resize(2, 3);
     layout.face_uv << 0, 1, 2, 3, 4, 5;
     layout.chart = {0, 0};
-    ASSERT_TRUE(edgesAreSimple({{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5}, {5, 3}},
-                               LocalUVs{{0.2, 0.2}, {0.5, 0.2}, {0.5, 0.5}, {0.5 + e, 0.5 + e},
-                                        {0.8, 0.5}, {0.8, 0.8}}));
+    ASSERT_TRUE(edgesAreSimple(
+        {{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5}, {5, 3}},
+        LocalUVs{{0.2, 0.2}, {0.5, 0.2}, {0.5, 0.5}, {0.5 + e, 0.5 + e}, {0.8, 0.5}, {0.8, 0.8}}));
     StoragePolicy policy;
     policy.precision = storage;
     const StorageCounts counts = store(layout, policy);
