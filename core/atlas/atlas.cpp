@@ -6,12 +6,14 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <new>
 #include <optional>
 #include <sstream>
 #include <thread>
+#include <unordered_set>
 
 #include "charts.h"
 #include "convex_cut.h"
@@ -266,6 +268,11 @@ constexpr size_t kFewestFacesToSplitForLinf = 50;
 // relaxes it: on the atlas bench, median L∞ 2.49 without this rule, 1.98 with it.
 constexpr double kMostKeptLinf = 2.0;
 constexpr double kCutWorth = 0.1;
+// Merging charts back (AtlasBuilder::mergeCharts) flattens at most this many faces per face of
+// the mesh, over at most kMostMergePasses passes: each pass flattens about the whole mesh again.
+constexpr double kMergedFacesPerFace = 2.0;
+constexpr double kMergedFacesFloor = 400000;
+constexpr int kMostMergePasses = 8;
 constexpr double kCutMinGain = 0.005;
 constexpr double kCutMinSide = 0.05;
 
@@ -314,6 +321,7 @@ class AtlasBuilder {
     report(kCutPercent);
     addToStage(r.stage_seconds, "cut", secondsSince(stage));
     makeCharts(graph, std::move(pieces));
+    if (options_.merge_charts) mergeCharts(graph);
     scratch_.clear();  // about 12 bytes a face each: not kept through packing and storage
 
     packAndStore();
@@ -339,12 +347,13 @@ class AtlasBuilder {
   }
 
   // The progress bar, in percent where each stage starts: the connectivity, the first cut
-  // (counted in faces), the charts' rounds (by faces flattened, then charts decided), the
-  // packing tries (by charts placed; packAndStore), storage and measures. Shares near the
-  // stages' time at a million faces and more (`stage_seconds`), so the bar moves every few
-  // seconds there.
+  // (counted in faces), the charts' rounds (by faces flattened, then charts decided), merging
+  // (by faces flattened of its budget), the packing tries (by charts placed; packAndStore), storage
+  // and measures. Shares near the stages' time at a million faces and more (`stage_seconds`), so
+  // the bar moves every few seconds there.
   static constexpr int kConnectivityPercent = 1, kCutPercent = 4, kFlattenPercent = 14,
-                       kPackPercent = 68, kStorePercent = 90, kMeasurePercent = 96;
+                       kMergePercent = 58, kPackPercent = 68, kStorePercent = 90,
+                       kMeasurePercent = 96;
 
   // Calls the user's progress callback when the percentage moved, or a second after the last
   // call (a front end that redraws in its callback stays responsive), on the calling thread only
@@ -395,7 +404,7 @@ class AtlasBuilder {
     double round_from = kFlattenPercent;
     for (int round = 0; !pending.empty(); ++round) {
       const double round_to =
-          round_from + (round == 0 ? 2.0 / 3 : 0.5) * (kPackPercent - round_from);
+          round_from + (round == 0 ? 2.0 / 3 : 0.5) * (kMergePercent - round_from);
       auto stage = Clock::now();
       std::vector<Piece> disks = sortIntoDisks(graph, std::move(pending), charted_faces);
       pending.clear();
@@ -432,9 +441,7 @@ class AtlasBuilder {
       if (cancelled_) throw ParameterizationError("cancelled by the user");
       // Every flattening counts, also of charts split afterwards.
       for (const Chart& chart : flat) {
-        linear_work_ += chart.linear_work;
-        refine_work_ += chart.refine_work;
-        for (const auto& [key, work] : chart.stage_work) addToStage(r.stage_work, key, work);
+        countWork(chart);
         r.chart_fallbacks += chart.report.fallbacks;  // 0 for a kept map
       }
       addToStage(r.stage_seconds, "flatten", secondsSince(stage));
@@ -458,6 +465,151 @@ class AtlasBuilder {
       report(static_cast<int>(round_to));
       round_from = round_to;
     }
+  }
+
+  // Charts that share a border are merged back when the merged chart is a disk that flattens
+  // within the chart limits, its worst face no worse, its bounding rectangle no larger than the
+  // two parts' together, and is not cut again for packing: the first cut and the halving by
+  // stretch leave borders that no limit asked for (docs/method.md §7). Pairs by the length of
+  // border they share, longest first; each pass tries disjoint pairs at once (in parallel) and
+  // takes them in pair order, so the same on any number of cores. The faces flattened for merging
+  // are counted against a budget in proportion to the mesh.
+  void mergeCharts(const FaceGraph& graph) {
+    AtlasReport& r = result_.report;
+    const auto stage = Clock::now();
+    MergeState state;
+    state.chart_of.assign(F_.rows(), -1);
+    state.budget =
+        std::max(kMergedFacesPerFace * static_cast<double>(F_.rows()), kMergedFacesFloor);
+    for (int pass = 0; pass < kMostMergePasses; ++pass) {
+      const double spent_before = state.spent;
+      const std::vector<MergeTry> tries = mergeTries(graph, state);
+      if (tries.empty()) break;
+      std::vector<Chart> merged(tries.size());
+      std::vector<char> accepted(tries.size(), 0);
+      std::atomic<long long> tried_faces{0};
+      forEachWithScratch(graph, static_cast<int>(tries.size()), [&](int i, FaceScratch& scratch) {
+        accepted[i] = tryMerge(graph, tries[i], merged[i], scratch);
+        tried_faces += static_cast<long long>(tries[i].faces.size());
+        reportWithin(kMergePercent, kPackPercent,
+                     spent_before + static_cast<double>(tried_faces.load()), state.budget);
+      });
+      int merges = 0;
+      std::vector<char> gone(charts_.size(), 0);
+      for (size_t i = 0; i < tries.size(); ++i) {
+        countWork(merged[i]);
+        if (!accepted[i]) {
+          state.refused.insert(tries[i].hash);
+          continue;
+        }
+        charts_[tries[i].a] = std::move(merged[i]);
+        gone[tries[i].b] = 1;
+        ++merges;
+      }
+      if (merges == 0) break;
+      size_t kept = 0;
+      for (size_t c = 0; c < charts_.size(); ++c)
+        if (!gone[c]) {
+          if (kept != c) charts_[kept] = std::move(charts_[c]);
+          ++kept;
+        }
+      charts_.resize(kept);
+      r.charts_merged += merges;
+    }
+    addToStage(r.stage_seconds, "merge", secondsSince(stage));
+  }
+
+  struct MergeState {
+    std::vector<int> chart_of;             // per face
+    std::unordered_set<uint64_t> refused;  // hashes of face sets flattened and refused
+    double budget = 0, spent = 0;          // faces flattened for merging
+  };
+  struct MergeTry {
+    int a, b;  // charts, a < b
+    std::vector<int> faces;
+    uint64_t hash;  // of `faces` (a collision only skips a try: the same on every run)
+  };
+
+  // The pairs of charts to try merging in this pass: neighbours by the length of their shared
+  // border, longest first, each chart in one pair at most, none refused before, within budget.
+  std::vector<MergeTry> mergeTries(const FaceGraph& graph, MergeState& state) const {
+    for (size_t c = 0; c < charts_.size(); ++c)
+      for (int f : charts_[c].faces) state.chart_of[f] = static_cast<int>(c);
+    struct Shared {
+      int a, b;
+      double length;
+    };
+    std::vector<Shared> edges;
+    for (int f = 0; f < graph.faceCount(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int g = graph.across[3 * f + k], cf = state.chart_of[f];
+        if (g < f || cf == state.chart_of[g]) continue;
+        const double length = (V_.row(F_(f, k)) - V_.row(F_(f, (k + 1) % 3))).norm();
+        edges.push_back({std::min(cf, state.chart_of[g]), std::max(cf, state.chart_of[g]), length});
+      }
+    std::sort(edges.begin(), edges.end(),
+              [](const Shared& x, const Shared& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    std::vector<Shared> pairs;
+    for (const Shared& e : edges)
+      if (!pairs.empty() && pairs.back().a == e.a && pairs.back().b == e.b)
+        pairs.back().length += e.length;
+      else
+        pairs.push_back(e);
+    for (Shared& p : pairs)
+      p.length /= std::sqrt(std::min(charts_[p.a].report.area, charts_[p.b].report.area));
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const Shared& x, const Shared& y) { return x.length > y.length; });
+    std::vector<char> taken(charts_.size(), 0);
+    std::vector<MergeTry> tries;
+    for (const Shared& p : pairs) {
+      if (taken[p.a] || taken[p.b]) continue;
+      MergeTry t{p.a, p.b, charts_[p.a].faces, 1469598103934665603ull};  // FNV-1a
+      t.faces.insert(t.faces.end(), charts_[p.b].faces.begin(), charts_[p.b].faces.end());
+      std::sort(t.faces.begin(), t.faces.end());
+      for (int f : t.faces) t.hash = (t.hash ^ static_cast<uint64_t>(f)) * 1099511628211ull;
+      if (state.refused.count(t.hash)) continue;
+      if (state.spent + static_cast<double>(t.faces.size()) > state.budget) break;
+      state.spent += static_cast<double>(t.faces.size());
+      taken[p.a] = taken[p.b] = 1;
+      tries.push_back(std::move(t));
+    }
+    return tries;
+  }
+
+  // Flattens the pair's faces into `merged`; true when the merged chart is to replace the two.
+  bool tryMerge(const FaceGraph& graph, const MergeTry& t, Chart& merged,
+                FaceScratch& scratch) const {
+    if (!regionIsDisk(graph, t.faces, scratch)) return false;
+    std::string why;
+    if (!flattenChart(V_, F_, t.faces, chartOptions(t.faces.size()), merged, why)) return false;
+    const Chart &a = charts_[t.a], &b = charts_[t.b];
+    if (!stretchAccepted(merged) ||
+        merged.report.linf_stretch >
+            std::max({a.report.linf_stretch, b.report.linf_stretch, kMostKeptLinf}) ||
+        boxArea(merged) > boxArea(a) + boxArea(b))
+      return false;
+    const bool cut = !straightCutPieces(graph, merged, scratch.region).empty();
+    for (int f : merged.faces) scratch.region[f] = kOutside;
+    return !cut;
+  }
+
+  // The area of the chart's smallest bounding rectangle, at the 3D scale: what packing gives it.
+  static double boxArea(const Chart& chart) {
+    const double uv_area = uvArea(chart.uv, chart.corner_row);
+    if (!(uv_area > 0)) return 0;
+    const Eigen::Matrix2d turn = smallestBoxRotation(chart.uv);
+    Eigen::Vector2d low = turn * chart.uv.front(), high = low;
+    for (const Eigen::Vector2d& p : chart.uv)
+      low = low.cwiseMin(turn * p), high = high.cwiseMax(turn * p);
+    return (high - low).prod() * chart.report.area / uv_area;
+  }
+
+  // Adds a flattening's work to the atlas's (every flattening counts, also when not kept).
+  void countWork(const Chart& chart) {
+    linear_work_ += chart.linear_work;
+    refine_work_ += chart.refine_work;
+    for (const auto& [key, work] : chart.stage_work)
+      addToStage(result_.report.stage_work, key, work);
   }
 
   // Calls body(i, scratch) for i in [0, n) on the workers, each with its own FaceScratch (made
@@ -892,6 +1044,10 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
        "refused by the patch pipeline, or cut along a straight line for packing (long, or with "
        "arms and bays)",
        [](R r) { return jsonInt(r.charts_split); }},
+      {"charts_merged",
+       "pairs of neighbouring charts merged back into one: the merged chart is a disk within the "
+       "chart limits, its worst face no worse, and is not cut again for packing",
+       [](R r) { return jsonInt(r.charts_merged); }},
       {"refinement_work",
        "the refinement work of every chart flattening (split charts too) over their linear maps' "
        "work",

@@ -53,6 +53,9 @@ struct AtlasOptions {
   // edges (their texture triangles then run clockwise, AtlasReport::faces_against_chart); false
   // cuts every such edge instead (kept for the bench's comparison; docs/method.md §7).
   bool turn_inconsistent_faces = true;
+  // Neighbouring charts are merged back where the merged chart keeps the limits (fewer charts,
+  // less seam); false keeps the charts as split (kept for the bench's comparison).
+  bool merge_charts = true;
 };
 
 struct ChartReport {
@@ -84,6 +87,7 @@ struct AtlasReport {
   int zero_area_faces = 0;  // charted alone, left out of the stretch
   int chart_fallbacks = 0;  // the patch pipeline's fallbacks, over every chart flattening
   int charts_split = 0;     // charts refined into smaller ones for stretch, disk shape or packing
+  int charts_merged = 0;    // pairs of charts merged back into one
   std::string storage = "double";
   int storage_degenerate_faces = 0, storage_moved_vertices = 0;
   double refinement_work = 0;  // over all charts, as a multiple of their linear maps' work

@@ -557,6 +557,25 @@ TEST(Atlas, PiecesCutOutOfAChartKeepItsMap) {
   EXPECT_EQ(kept, r.report.charts);  // every piece came from the one flattened strip
 }
 
+TEST(Atlas, NeighbouringChartsMergeBackWithinTheChartLimits) {
+  const Mesh mesh = torus(96, 32);  // cut first into parts no limit asked for
+  AtlasOptions o = quickOptions();
+  const AtlasResult merged = makeAtlas(mesh.V, mesh.F, o);
+  o.merge_charts = false;
+  const AtlasResult split = makeAtlas(mesh.V, mesh.F, o);
+  o.merge_charts = true;
+  expectCertified(mesh, merged, o);
+  expectCertified(mesh, split, o);
+  EXPECT_GT(merged.report.charts_merged, 0);
+  EXPECT_EQ(split.report.charts_merged, 0);
+  EXPECT_EQ(merged.report.charts, split.report.charts - merged.report.charts_merged);
+  EXPECT_LT(merged.report.seam, split.report.seam);
+  for (const ChartReport& chart : merged.report.chart_table) {
+    EXPECT_LE(chart.l2_stretch, o.max_chart_stretch);
+    if (chart.faces > 50) EXPECT_LE(chart.linf_stretch, 4.0);
+  }
+}
+
 // The shared closed models, when they are beside the clone.
 class ClosedMesh : public ::testing::TestWithParam<const char*> {};
 
