@@ -268,6 +268,10 @@ constexpr size_t kFewestFacesToSplitForLinf = 50;
 // relaxes it: on the atlas bench, median L∞ 2.49 without this rule, 1.98 with it.
 constexpr double kMostKeptLinf = 2.0;
 constexpr double kCutWorth = 0.1;
+// A piece is first cut along its sharp edges (dihedral angle above 40 degrees) into feature
+// patches of at least kFewestPatchFaces faces (cutIntoDisks).
+const double kSharpEdgeCos = std::cos(40.0 * 3.14159265358979323846 / 180);
+constexpr int kFewestPatchFaces = 20;
 // Merging charts back (AtlasBuilder::mergeCharts) flattens at most this many faces per face of
 // the mesh, over at most kMostMergePasses passes: each pass flattens about the whole mesh again.
 constexpr double kMergedFacesPerFace = 2.0;
@@ -675,9 +679,7 @@ class AtlasBuilder {
           disk[i] = regionIsDisk(graph, faces, scratch);
           if (disk[i]) return;
           growth(static_cast<int>(faces.size()));
-          const int parts =
-              std::max<int>(2, static_cast<int>(faces.size() / facesPerFirstPart(F_.rows())));
-          cut[i] = splitFaces(graph, faces, parts, scratch, &growth);
+          cut[i] = cutIntoDisks(graph, faces, scratch, growth);
         },
         largest);
     std::vector<Piece> ready;
@@ -696,6 +698,30 @@ class AtlasBuilder {
       }
     }
     return ready;
+  }
+
+  // A piece that is not a disk in disks: in its feature patches (bounded by sharp edges) when it
+  // has several, each patch that is not a disk then split; else split into parts of about
+  // facesPerFirstPart faces.
+  std::vector<std::vector<int>> cutIntoDisks(const FaceGraph& graph, const std::vector<int>& faces,
+                                             FaceScratch& scratch, const GrowthProgress& growth) {
+    auto split = [&](const std::vector<int>& part) {
+      const int parts =
+          std::max<int>(2, static_cast<int>(part.size() / facesPerFirstPart(F_.rows())));
+      return splitFaces(graph, part, parts, scratch, &growth);
+    };
+    std::vector<std::vector<int>> patches =
+        featurePatches(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch);
+    if (patches.size() < 2) return split(faces);
+    std::vector<std::vector<int>> disks;
+    for (std::vector<int>& patch : patches) {
+      if (patch.size() == 1 || regionIsDisk(graph, patch, scratch)) {
+        disks.push_back(std::move(patch));
+        continue;
+      }
+      for (std::vector<int>& part : split(patch)) disks.push_back(std::move(part));
+    }
+    return disks;
   }
 
   // What a flattened disk becomes: a chart (keep), or pieces to chart again (split), each with

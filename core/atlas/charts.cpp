@@ -476,6 +476,61 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
   return result;
 }
 
+std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                             double sharp_cos, int fewest, FaceScratch& scratch) {
+  std::vector<int>& patch = scratch.region;
+  for (int f : faces) patch[f] = kUnassigned;
+  std::vector<int> size;
+  for (int start : faces) {
+    if (patch[start] != kUnassigned) continue;
+    const int id = static_cast<int>(size.size());
+    std::vector<int> queue = {start};
+    patch[start] = id;
+    for (size_t i = 0; i < queue.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const int f = queue[i], next = graph.across[3 * f + k];
+        if (next < 0 || patch[next] != kUnassigned) continue;
+        if (graph.normal[f].dot(graph.normal[next]) < sharp_cos) continue;
+        patch[next] = id;
+        queue.push_back(next);
+      }
+    size.push_back(static_cast<int>(queue.size()));
+  }
+  // Small patches join a neighbour, in patch order; `members` per patch, kept as they join.
+  std::vector<std::vector<int>> members(size.size());
+  for (int f : faces) members[patch[f]].push_back(f);
+  for (size_t p = 0; p < members.size(); ++p) {
+    if (members[p].empty() || static_cast<int>(members[p].size()) >= fewest) continue;
+    std::vector<int> border;  // per edge on the patch's border, the patch across
+    for (int f : members[p])
+      for (int k = 0; k < 3; ++k) {
+        const int next = graph.across[3 * f + k];
+        if (next >= 0 && patch[next] >= 0 && patch[next] != static_cast<int>(p))
+          border.push_back(patch[next]);
+      }
+    if (border.empty()) continue;
+    std::sort(border.begin(), border.end());
+    int best = -1, most = 0;  // the patch across the most edges, the lowest among equals
+    for (size_t i = 0; i < border.size();) {
+      size_t j = i;
+      while (j < border.size() && border[j] == border[i]) ++j;
+      if (static_cast<int>(j - i) > most) most = static_cast<int>(j - i), best = border[i];
+      i = j;
+    }
+    for (int f : members[p]) patch[f] = best;
+    members[best].insert(members[best].end(), members[p].begin(), members[p].end());
+    members[p].clear();
+  }
+  std::vector<std::vector<int>> result;
+  for (std::vector<int>& m : members)
+    if (!m.empty()) {
+      std::sort(m.begin(), m.end());
+      result.push_back(std::move(m));
+    }
+  for (int f : faces) patch[f] = kOutside;
+  return result;
+}
+
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {
   const Triangles& F = *graph.F;
   std::vector<int>& local = scratch.vertex;

@@ -73,6 +73,13 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
                                          int parts, FaceScratch& scratch,
                                          const GrowthProgress* progress = nullptr);
 
+// The faces of the list in patches joined across smooth edges: edges whose two faces' normals
+// make an angle below the one whose cosine is `sharp_cos` (a sharp edge bounds a patch). A patch
+// of fewer than `fewest` faces joins the neighbouring patch it shares the most border with (in
+// patch order), so a crease that does not close, or noise, leaves one patch. In list order.
+std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                             double sharp_cos, int fewest, FaceScratch& scratch);
+
 // True when the faces form a disk (one consistently oriented manifold piece with
 // one boundary loop and Euler characteristic 1).
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& region_faces,

@@ -557,6 +557,77 @@ TEST(Atlas, PiecesCutOutOfAChartKeepItsMap) {
   EXPECT_EQ(kept, r.report.charts);  // every piece came from the one flattened strip
 }
 
+// A closed box of sides sx, sy, sz, each side an n x n grid of squares cut into two triangles
+// (vertices shared along the edges), faces wound outwards.
+Mesh box(int n, double sx, double sy, double sz) {
+  std::map<std::array<long, 3>, int> index;
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::array<int, 3>> f;
+  auto vertex = [&](const std::array<long, 3>& g) {
+    auto [it, added] = index.emplace(g, static_cast<int>(v.size()));
+    if (added) v.emplace_back(sx * g[0] / n, sy * g[1] / n, sz * g[2] / n);
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side)
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+          auto corner = [&](int a, int b) {
+            std::array<long, 3> g{};
+            g[axis] = side * n, g[u] = i + a, g[w] = j + b;
+            return vertex(g);
+          };
+          const int p = corner(0, 0), q = corner(1, 0), r = corner(1, 1), t = corner(0, 1);
+          if (side == 1) {
+            f.push_back({p, q, r});
+            f.push_back({p, r, t});
+          } else {
+            f.push_back({p, r, q});
+            f.push_back({p, t, r});
+          }
+        }
+  Mesh mesh;
+  mesh.V.resize(v.size(), 3);
+  for (size_t i = 0; i < v.size(); ++i) mesh.V.row(i) = v[i].transpose();
+  mesh.F.resize(f.size(), 3);
+  for (size_t i = 0; i < f.size(); ++i) mesh.F.row(i) << f[i][0], f[i][1], f[i][2];
+  return mesh;
+}
+
+TEST(AtlasCharts, FeaturePatchesFollowSharpEdgesAndAbsorbSmallOnes) {
+  const Mesh mesh = box(6, 1, 2, 3);
+  const Connectivity c = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
+  const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, c);
+  std::vector<int> faces(mesh.F.rows());
+  std::iota(faces.begin(), faces.end(), 0);
+  FaceScratch scratch(graph);
+  const double sharp = std::cos(40.0 * M_PI / 180);
+  const auto sides = featurePatches(graph, faces, sharp, 1, scratch);
+  ASSERT_EQ(sides.size(), 6u);  // one per side of the box, each flat
+  for (const auto& side : sides) {
+    EXPECT_EQ(side.size(), 72u);
+    for (int f : side) EXPECT_GT(graph.normal[f].dot(graph.normal[side.front()]), 1 - 1e-12);
+  }
+  // Sides smaller than `fewest` join their neighbours: nothing is left alone.
+  const auto joined = featurePatches(graph, faces, sharp, 100, scratch);
+  EXPECT_LT(joined.size(), 6u);
+  size_t total = 0;
+  for (const auto& part : joined) total += part.size();
+  EXPECT_EQ(total, faces.size());
+  for (int f : faces) EXPECT_EQ(scratch.region[f], kOutside);
+}
+
+TEST(Atlas, ABoxIsUnfoldedAlongItsEdgesWithoutStretch) {
+  const Mesh mesh = box(8, 1, 2, 3);
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  // Charts are cut along the box's edges and merged only where the sides unfold flat.
+  EXPECT_LE(r.report.charts, 6);
+  EXPECT_LT(r.report.linf_stretch, 1.01);
+}
+
 TEST(Atlas, NeighbouringChartsMergeBackWithinTheChartLimits) {
   const Mesh mesh = torus(96, 32);  // cut first into parts no limit asked for
   AtlasOptions o = quickOptions();
