@@ -65,4 +65,11 @@ inline std::string jsonObject(const std::vector<std::pair<std::string, std::stri
   return out + "}";
 }
 
+// {"a": 1.5, "b": 2} from keys and numbers, in their order (a report's stage seconds or work).
+inline std::string jsonNumbers(const std::vector<std::pair<std::string, double>>& members) {
+  std::vector<std::pair<std::string, std::string>> text;
+  for (const auto& [key, value] : members) text.emplace_back(key, jsonNumber(value));
+  return jsonObject(text);
+}
+
 }  // namespace sdp::json

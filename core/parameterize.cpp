@@ -41,15 +41,8 @@ class StageClock {
   void addWork(Stage stage, double work) { addTo(report_.stage_work, stage, work); }
 
  private:
-  static void addTo(std::vector<std::pair<std::string, double>>& stages, Stage stage,
-                    double amount) {
-    const char* key = stageRow(stage).key;
-    for (auto& entry : stages)
-      if (entry.first == key) {
-        entry.second += amount;
-        return;
-      }
-    stages.emplace_back(key, amount);
+  static void addTo(StageAmounts& stages, Stage stage, double amount) {
+    addToStage(stages, stageRow(stage).key, amount);
   }
 
   Report& report_;

@@ -12,6 +12,7 @@ namespace {
 using json::jsonInt;
 using json::jsonList;
 using json::jsonNumber;
+using json::jsonNumbers;
 using json::jsonObject;
 using json::jsonString;
 
@@ -159,21 +160,11 @@ std::vector<ReportField> detailFields() {
                                  {"moved_vertices", jsonInt(r.storage_moved_vertices)}});
             }),
       other("stage_seconds", "seconds per stage, in run order",
-            [](R r) {
-              std::vector<std::pair<std::string, std::string>> members;
-              for (const auto& [stage, seconds] : r.stage_seconds)
-                members.emplace_back(stage, jsonNumber(seconds));
-              return jsonObject(members);
-            }),
+            [](R r) { return jsonNumbers(r.stage_seconds); }),
       other("stage_work",
             "work per stage in units of about a nanosecond of one core here, counted from sizes "
             "and iterations (what the refinement budget counts; the same on every run)",
-            [](R r) {
-              std::vector<std::pair<std::string, std::string>> members;
-              for (const auto& [stage, work] : r.stage_work)
-                members.emplace_back(stage, jsonNumber(work));
-              return jsonObject(members);
-            }),
+            [](R r) { return jsonNumbers(r.stage_work); }),
       other("warnings", "one line per fallback or notice (the CLI also prints them to stderr)",
             [](R r) { return jsonList(r.warnings, jsonString); }),
       other(

@@ -47,6 +47,19 @@ struct FallbackRecord {
   }
 };
 
+// Per-stage amounts (seconds or work) in the order stages were first met.
+using StageAmounts = std::vector<std::pair<std::string, double>>;
+
+// Adds `amount` to the entry `key`, or appends it.
+inline void addToStage(StageAmounts& stages, const std::string& key, double amount) {
+  for (auto& entry : stages)
+    if (entry.first == key) {
+      entry.second += amount;
+      return;
+    }
+  stages.emplace_back(key, amount);
+}
+
 struct Report {
   int vertices = 0;  // vertices referenced by the patch
   int faces = 0;

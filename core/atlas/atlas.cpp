@@ -24,6 +24,7 @@
 #include "core/metrics.h"
 #include "core/parallel.h"
 #include "core/parameterize.h"
+#include "core/report.h"
 #include "core/storage.h"
 #include "core/work.h"
 #include "measure.h"
@@ -48,17 +49,6 @@ struct Chart {
   double linear_work = 0, refine_work = 0;
   std::vector<std::pair<std::string, double>> stage_work;  // the patch pipeline's, per stage
 };
-
-// Adds `amount` to the entry `key`, or appends it: stages in the order first met.
-void addToStage(std::vector<std::pair<std::string, double>>& stages, const std::string& key,
-                double amount) {
-  for (auto& entry : stages)
-    if (entry.first == key) {
-      entry.second += amount;
-      return;
-    }
-  stages.emplace_back(key, amount);
-}
 
 // Work keys of the refinement stages (progress.h), the rest being the linear map's.
 bool isRefineStage(const std::string& key) {
@@ -268,17 +258,19 @@ constexpr size_t kFewestFacesToSplitForLinf = 50;
 // relaxes it: on the atlas bench, median L∞ 2.49 without this rule, 1.98 with it.
 constexpr double kMostKeptLinf = 2.0;
 constexpr double kCutWorth = 0.1;
+constexpr double kCutMinGain = 0.005;
+constexpr double kCutMinSide = 0.05;
 // A piece is first cut along its sharp edges (dihedral angle above 40 degrees) into feature
 // patches of at least kFewestPatchFaces faces (cutIntoDisks).
 const double kSharpEdgeCos = std::cos(40.0 * 3.14159265358979323846 / 180);
 constexpr int kFewestPatchFaces = 20;
-// Merging charts back (AtlasBuilder::mergeCharts) flattens at most this many faces per face of
-// the mesh, over at most kMostMergePasses passes: each pass flattens about the whole mesh again.
-constexpr double kMergedFacesPerFace = 2.0;
-constexpr double kMergedFacesFloor = 400000;
+// Merging charts back (AtlasBuilder::mergeCharts) flattens at most kMergedFacesPerFace faces per
+// face of the mesh, at least kMergedFacesFloor (all passes, at most kMostMergePasses, up to about
+// 50k faces); above 200k faces each face adds one, not two: a pass costs about as much as the
+// charts' flattening, the longest stage of a large scan.
+constexpr double kMergedFacesPerFace = 2.0, kMergedFacesFloor = 400000;
+constexpr double kMergedFacesPerLargeFace = 1.0, kMergedFacesForLargeMeshes = 200000;
 constexpr int kMostMergePasses = 8;
-constexpr double kCutMinGain = 0.005;
-constexpr double kCutMinSide = 0.05;
 
 class AtlasBuilder {
  public:
@@ -483,8 +475,10 @@ class AtlasBuilder {
     const auto stage = Clock::now();
     MergeState state;
     state.chart_of.assign(F_.rows(), -1);
-    state.budget =
-        std::max(kMergedFacesPerFace * static_cast<double>(F_.rows()), kMergedFacesFloor);
+    const double faces = static_cast<double>(F_.rows());
+    state.budget = std::max(
+        kMergedFacesFloor, std::min(kMergedFacesPerFace * faces,
+                                    kMergedFacesPerLargeFace * faces + kMergedFacesForLargeMeshes));
     for (int pass = 0; pass < kMostMergePasses; ++pass) {
       const double spent_before = state.spent;
       const std::vector<MergeTry> tries = mergeTries(graph, state);
@@ -1089,22 +1083,12 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
        "into disks), `flatten` (charts flattened by the patch pipeline), `split` (chart limits "
        "checked, charts split), `pack`, `store` (rounding to the storage, its repair and the "
        "pixel check), `measure`; each summed over the rounds",
-       [](R r) {
-         std::vector<std::pair<std::string, std::string>> stages;
-         for (const auto& [stage, seconds] : r.stage_seconds)
-           stages.emplace_back(stage, jsonNumber(seconds));
-         return jsonObject(stages);
-       }},
+       [](R r) { return jsonNumbers(r.stage_seconds); }},
       {"stage_work",
        "the patch pipeline's work per stage (its report's `stage_work` keys), summed over every "
        "chart flattening: units of about a nanosecond of one core here, counted from sizes and "
        "iterations, the same on every run",
-       [](R r) {
-         std::vector<std::pair<std::string, std::string>> stages;
-         for (const auto& [stage, work] : r.stage_work)
-           stages.emplace_back(stage, jsonNumber(work));
-         return jsonObject(stages);
-       }},
+       [](R r) { return jsonNumbers(r.stage_work); }},
       {"warnings", "one line per fallback or notice",
        [](R r) { return jsonList(r.warnings, jsonString); }},
       {"notes", "what was done that needs no action",
