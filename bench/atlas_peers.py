@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Atlas peers for bench/atlas.py, each run in a process of its own (so that its peak memory is
-its own): xatlas (pip `xatlas` 0.0.11) and MeshLab's own atlas filters through pymeshlab.
+its own): xatlas (pip `xatlas` 0.0.11), Geogram 1.9.3's atlas maker (pip `geotex` 0.1.3) and
+MeshLab's own atlas filters through pymeshlab.
 
 usage: atlas_peers.py METHOD MESH.off OUT.obj TEXTURE_SIZE GUTTER
   METHOD  xatlas          default chart and pack options, resolution TEXTURE_SIZE, padding GUTTER
           xatlas-brute    the same with bruteForce packing
+          geotex          Geogram's mesh_make_atlas with geotex's defaults (it takes no texture
+                          size nor gutter: see run_geotex)
           voronoi         MeshLab *Parametrization: Voronoi Atlas* with its defaults
           trivial         MeshLab *Parametrization: Trivial Per-Triangle*, its defaults except the
                           texture size (the first of TEXTURE_SIZE, 2x, 4x... that it accepts)
@@ -55,6 +58,57 @@ def run_xatlas(mesh, out, size, gutter, brute):
     return {"seconds": seconds, "tool_charts": int(atlas.chart_count)}
 
 
+def run_geotex(mesh, out, size, gutter):
+    """Geogram's GEO::mesh_make_atlas through geotex 0.1.3 (Geogram 1.9.3, the atlas maker Meshroom
+    uses). geotex exposes one function, make_atlas(vertices float64 (N, 3), faces uint32 (M, 3),
+    hard_angles_threshold=45.0, parameterizer="abf" | "lscm" | "spectral_lscm",
+    packer="xatlas" | "tetris", verbose=False) -> (3M, 2) float64 UVs, corner k of face f at row
+    3f + k, in [0, 1]; all left at their defaults here. It takes no texture size nor gutter:
+    Geogram's xatlas packing asks xatlas for a padding of 1 texel at the resolution xatlas picks
+    itself, then scales the atlas into the unit square, so `size` and `gutter` are not passed."""
+    import ctypes
+    import os
+    import re
+    import tempfile
+    import geotex
+    V, F = read_off(mesh)
+    vertices = np.ascontiguousarray(V, dtype=np.float64)
+    faces = np.ascontiguousarray(F, dtype=np.uint32)
+    libc = ctypes.CDLL(None)
+    said = {}
+    # Geogram's logger writes to the C stdout; it goes to a file here, so that the last line of
+    # this process's stdout stays the JSON below, and is passed on to stderr.
+    sys.stdout.flush()
+    saved = os.dup(1)
+    with tempfile.TemporaryFile("w+") as log:
+        os.dup2(log.fileno(), 1)
+        start = time.perf_counter()
+        try:
+            uv = geotex.make_atlas(vertices, faces)
+        except Exception as e:  # geotex raises when Geogram's atlas maker fails
+            said["refused"] = f"{type(e).__name__}: {str(e).strip()}"
+        seconds = time.perf_counter() - start
+        libc.fflush(None)
+        os.dup2(saved, 1)
+        os.close(saved)
+        log.seek(0)
+        text = log.read()
+    sys.stderr.write(text)
+    said["seconds"] = seconds
+    if "refused" in said:
+        return said
+    uv = np.asarray(uv, dtype=np.float64).reshape(-1, 2)
+    if uv.shape[0] != 3 * len(F):
+        return {"seconds": seconds, "refused": f"{uv.shape[0]} UVs for {len(F)} faces"}
+    packed = re.findall(r"Packing (\d+) charts", text)
+    if packed:
+        said["tool_charts"] = int(packed[-1])
+    # The input's vertices and faces kept; corners with the same UV values share one vt.
+    unique_uv, face_uv = np.unique(uv, axis=0, return_inverse=True)
+    write_obj(out, V, F, unique_uv, face_uv.reshape(-1, 3))
+    return said
+
+
 def run_meshlab(mesh, out, size, method):
     import pymeshlab
     ms = pymeshlab.MeshSet()
@@ -95,6 +149,8 @@ def main():
     size, gutter = int(size), int(gutter)
     if method in ("xatlas", "xatlas-brute"):
         result = run_xatlas(mesh, out, size, gutter, method == "xatlas-brute")
+    elif method == "geotex":
+        result = run_geotex(mesh, out, size, gutter)
     elif method in ("voronoi", "trivial"):
         result = run_meshlab(mesh, out, size, method)
     else:

@@ -3,14 +3,15 @@
 #   bash bench/run.sh            quality tables, paper Table 1, scaling (CGAL up to 1.65M vertices),
 #                                the defaults against the linear map and SLIM, the same bytes on
 #                                every run, the mesh readers against vcglib's, atlases of whole
-#                                models against xatlas, Blender and MeshLab (~60 min)
+#                                models against xatlas, Geogram, Blender and MeshLab, and of
+#                                generated mechanical parts (~70 min)
 #   bash bench/run.sh --quick    small meshes only (a smoke run, a few minutes)
 # Results go to bench/results/ (Markdown, CSV, PNG) and into the README between bench markers.
 set -euo pipefail
 repo_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo_dir"
 bash scripts/install-deps.sh
-.venv/bin/python -m pip install --disable-pip-version-check -q matplotlib "xatlas==0.0.11"
+.venv/bin/python -m pip install --disable-pip-version-check -q matplotlib "xatlas==0.0.11" "geotex==0.1.3" "manifold3d==3.5.4"
 # Blender as a peer (pip bpy 5.0.1, GPL: bench only, in a venv of its own, never the product's).
 if [[ ! -x .venv-blender/bin/python ]]; then /usr/bin/python3 -m venv .venv-blender; fi
 .venv-blender/bin/python -m pip install --disable-pip-version-check -q "bpy==5.0.1"
@@ -30,6 +31,8 @@ else
   .venv/bin/python bench/readers.py --build "$build_dir" --readme README.md
   # Atlases of whole models against xatlas, Blender and MeshLab's own (README *Atlas*).
   .venv/bin/python bench/atlas.py --build "$build_dir" --big --readme README.md
+  # Mechanical parts made by CSG (bench/cad_models.py), against xatlas and Geogram's atlas maker.
+  .venv/bin/python bench/atlas.py --build "$build_dir" --cad
   # MeshLab's own texture baking on the atlas (README *Atlas*).
   .venv/bin/python bench/baking.py --build "$build_dir" --readme README.md
 fi
