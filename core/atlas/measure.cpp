@@ -85,11 +85,13 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
                             int gutter) {
   PixelMeasures m;
   if (size <= 0) return m;
-  constexpr int kEmpty = -1, kShared = -2;
-  std::vector<int> owner(static_cast<size_t>(size) * size, kEmpty);
-  std::vector<unsigned char> covers(static_cast<size_t>(size) * size, 0);
-  // Bands of rows, each rastered by one thread from the faces that reach it; the counts are
-  // sums of integers, the same in any order.
+  // Owners are chart numbers (>= 0), kEmpty or kShared; kShared is the least, kEmpty the greatest
+  // as the window minimum sees it (it is skipped).
+  constexpr int kEmpty = std::numeric_limits<int>::max(), kShared = -1;
+  const int reach = std::max(0, gutter - 1);
+  // Bands of rows, each rastered by one thread into buffers of its own, grown by `reach` rows on
+  // either side (faces reaching those rows are rastered by both bands), so the texture is never
+  // held whole; the counts are sums of integers, the same in any order.
   constexpr int kBandRows = 64;
   const int bands = (size + kBandRows - 1) / kBandRows;
   const int faces = layout.faceCount();
@@ -107,8 +109,10 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
       first_band[f] = 0, last_band[f] = -1;
       continue;
     }
-    first_band[f] = static_cast<int>(std::max(0.0, row_low)) / kBandRows;
-    last_band[f] = static_cast<int>(std::min<double>(size - 1, row_high)) / kBandRows;
+    const int first_row = static_cast<int>(std::max(0.0, row_low));
+    const int last_row = static_cast<int>(std::min<double>(size - 1, row_high));
+    first_band[f] = std::max(0, first_row - reach) / kBandRows;
+    last_band[f] = std::min(size - 1, last_row + reach) / kBandRows;
     for (int b = first_band[f]; b <= last_band[f]; ++b) ++band_begin[b + 1];
   }
   for (int b = 0; b < bands; ++b) band_begin[b + 1] += band_begin[b];
@@ -120,41 +124,63 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   }
   std::vector<long long> overlapping(bands, 0), violations(bands, 0);
   parallelFor(bands, 1, [&](int begin, int end, int) {
+    const size_t rows = kBandRows + 2 * reach;
+    std::vector<int> owner(rows * size), low(rows * size), high(rows * size);
+    std::vector<unsigned char> covers(static_cast<size_t>(kBandRows) * size);
     for (int b = begin; b < end; ++b) {
       const int row_begin = b * kBandRows, row_end = std::min(size, row_begin + kBandRows);
+      const int grown_begin = std::max(0, row_begin - reach);
+      const int grown_end = std::min(size, row_end + reach);
+      std::fill(owner.begin(), owner.end(), kEmpty);
+      std::fill(covers.begin(), covers.end(), 0);
       for (int i = band_begin[b]; i < band_begin[b + 1]; ++i) {
         const int f = band_face[i];
         const int c = chart.empty() ? 0 : chart[f];
-        coveredPixelsInRows(corners[f].data(), size, row_begin, row_end, [&](int x, int y) {
-          const size_t at = static_cast<size_t>(y) * size + x;
-          if (covers[at] < 255) ++covers[at];
-          owner[at] = owner[at] == kEmpty || owner[at] == c ? c : kShared;
+        coveredPixelsInRows(corners[f].data(), size, grown_begin, grown_end, [&](int x, int y) {
+          int& o = owner[static_cast<size_t>(y - grown_begin) * size + x];
+          o = o == kEmpty || o == c ? c : kShared;
+          if (y < row_begin || y >= row_end) return;
+          unsigned char& n = covers[static_cast<size_t>(y - row_begin) * size + x];
+          if (n < 255) ++n;
         });
       }
-      for (size_t at = static_cast<size_t>(row_begin) * size;
-           at < static_cast<size_t>(row_end) * size; ++at)
+      for (size_t at = 0; at < static_cast<size_t>(row_end - row_begin) * size; ++at)
         overlapping[b] += covers[at] >= 2;
+      if (reach == 0) continue;  // a gutter of one texel: neighbours may belong to any chart
+      // A covered pixel breaks the gutter when its window of (2 reach + 1)^2 pixels holds another
+      // owner or a shared pixel: when the window's least and greatest owners (empty ones
+      // skipped) differ. Both are taken along rows, then along columns.
+      const int grown_rows = grown_end - grown_begin;
+      for (int y = 0; y < grown_rows; ++y) {
+        const int* row = &owner[static_cast<size_t>(y) * size];
+        int* row_low = &low[static_cast<size_t>(y) * size];
+        int* row_high = &high[static_cast<size_t>(y) * size];
+        for (int x = 0; x < size; ++x) {
+          int least = kEmpty, greatest = kShared - 1;
+          for (int dx = std::max(0, x - reach); dx <= std::min(size - 1, x + reach); ++dx) {
+            const int o = row[dx];
+            if (o == kEmpty) continue;
+            least = std::min(least, o), greatest = std::max(greatest, o);
+          }
+          row_low[x] = least, row_high[x] = greatest;
+        }
+      }
+      for (int y = row_begin; y < row_end; ++y) {
+        const int at = y - grown_begin;
+        const int* row = &owner[static_cast<size_t>(at) * size];
+        const int from = std::max(0, at - reach), to = std::min(grown_rows - 1, at + reach);
+        for (int x = 0; x < size; ++x) {
+          if (row[x] == kEmpty) continue;
+          int least = kEmpty, greatest = kShared - 1;
+          for (int r = from; r <= to; ++r) {
+            least = std::min(least, low[static_cast<size_t>(r) * size + x]);
+            greatest = std::max(greatest, high[static_cast<size_t>(r) * size + x]);
+          }
+          violations[b] += least != greatest || least == kShared;
+        }
+      }
     }
   });
-  const int reach = gutter - 1;
-  if (reach > 0)
-    parallelFor(bands, 1, [&](int begin, int end, int) {
-      for (int b = begin; b < end; ++b)
-        for (int y = b * kBandRows; y < std::min(size, (b + 1) * kBandRows); ++y)
-          for (int x = 0; x < size; ++x) {
-            const int c = owner[static_cast<size_t>(y) * size + x];
-            if (c == kEmpty) continue;
-            bool violated = c == kShared;
-            for (int dy = -reach; dy <= reach && !violated; ++dy)
-              for (int dx = -reach; dx <= reach && !violated; ++dx) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
-                const int o = owner[static_cast<size_t>(ny) * size + nx];
-                violated = o != kEmpty && o != c;
-              }
-            violations[b] += violated;
-          }
-    });
   for (int b = 0; b < bands; ++b) {
     m.overlapping_pixels += overlapping[b];
     m.gutter_violations += violations[b];

@@ -212,26 +212,31 @@ TEST(AtlasMeasures, PixelBandsCountAsOneRasterOfTheWholeTexture) {
       o = o == -1 || o == chart[f] ? chart[f] : -2;
     });
   }
-  long long overlapping = 0, violations = 0;
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      const int c = owner[y * size + x];
-      overlapping += covers[y * size + x] >= 2;
-      if (c == -1) continue;
-      bool bad = c == -2;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
-          const int o = owner[ny * size + nx];
-          bad = bad || (o != -1 && o != c);
-        }
-      violations += bad;
-    }
-  const PixelMeasures m = measurePixels(layout, chart, size, 2);
-  EXPECT_GT(overlapping, 1000);
-  EXPECT_EQ(m.overlapping_pixels, overlapping);
-  EXPECT_EQ(m.gutter_violations, violations);
+  for (const int gutter : {1, 2, 3, 6}) {
+    // The measure works in bands of rows with halos of gutter - 1 rows; this counts directly.
+    const int reach = gutter - 1;
+    long long overlapping = 0, violations = 0;
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const int c = owner[y * size + x];
+        overlapping += covers[y * size + x] >= 2;
+        if (c == -1 || reach == 0) continue;
+        bool bad = c == -2;
+        for (int dy = -reach; dy <= reach; ++dy)
+          for (int dx = -reach; dx <= reach; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
+            const int o = owner[ny * size + nx];
+            bad = bad || (o != -1 && o != c);
+          }
+        violations += bad;
+      }
+    const PixelMeasures m = measurePixels(layout, chart, size, gutter);
+    EXPECT_GT(overlapping, 1000);
+    EXPECT_EQ(m.overlapping_pixels, overlapping) << gutter;
+    EXPECT_EQ(m.gutter_violations, violations) << gutter;
+    if (reach > 0) EXPECT_GT(violations, overlapping) << gutter;
+  }
 }
 
 TEST(AtlasMeasures, CountOverlapGutterSeamAndMirroredCharts) {
