@@ -62,6 +62,35 @@ void summarize(const std::vector<FaceStretch>& stretch, const std::vector<double
 
 }  // namespace
 
+namespace {
+
+// The fill faces of holes turned inside out: seen from its fill, the hole's border runs against
+// the real faces (the sum of the fill's signed areas is the border polygon's own, wherever the
+// virtual centre lies, and has the other sign or none). The faces around such a hole then cover
+// it a second time though none of them is flipped and no border edges cross: a refinement step
+// can carry a small hole through itself (a 192-face chart of the truck with two 5-edge holes).
+int invertedHoleFaces(const Patch& patch, const std::vector<Eigen::Vector2d>& uv,
+                      double real_area) {
+  if (patch.holes_filled == 0) return 0;
+  const int centres = patch.vertexCount() - patch.real_vertex_count;
+  std::vector<double> area(centres, 0.0);
+  std::vector<int> fill_faces(centres, 0);
+  for (int f = patch.real_face_count; f < patch.faceCount(); ++f) {
+    const auto& t = patch.face[f];
+    for (int v : t)
+      if (patch.isVirtual(v)) {
+        area[v - patch.real_vertex_count] += signedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
+        ++fill_faces[v - patch.real_vertex_count];
+      }
+  }
+  int inverted = 0;
+  for (int h = 0; h < centres; ++h)
+    if (!(area[h] * real_area > 0)) inverted += fill_faces[h];
+  return inverted;
+}
+
+}  // namespace
+
 StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) {
   const int faces = patch.real_face_count;  // virtual hole fills do not count
   StretchMetrics m;
@@ -86,6 +115,8 @@ StretchMetrics stretchMetrics(const Patch& patch, const std::vector<Eigen::Vecto
   for (const Eigen::Vector2d& sums : area_sums) area2d += sums.x(), area3d += sums.y();
   summarize(
       stretch, {area2d}, area3d, [](int) { return 0; }, m);
+  // A hole turned inside out folds the map as a flipped face does: its fill's faces count.
+  m.flipped_faces += invertedHoleFaces(patch, uv, area2d);
 
   std::vector<double> vertex_sum(patch.vertexCount(), 0.0), vertex_area(patch.vertexCount(), 0.0);
   for (int f = 0; f < faces; ++f)
@@ -174,7 +205,8 @@ bool hasFlippedFace(const Patch& patch, const std::vector<Eigen::Vector2d>& uv) 
   }
   const FlipRule rule(all.total);
   // The rule's margin is monotone in the area: the face nearest the wrong side decides.
-  return all.not_a_number || rule.flipped(all.least) || rule.flipped(all.most);
+  return all.not_a_number || rule.flipped(all.least) || rule.flipped(all.most) ||
+         invertedHoleFaces(patch, uv, all.total) > 0;
 }
 
 }  // namespace sdp

@@ -23,7 +23,8 @@ FaceStretch faceStretch(const Eigen::Vector3d q[3], const Eigen::Vector2d p[3]);
 struct StretchMetrics {
   double l2 = 0;                  // area-weighted L2 over the mesh, normalized
   double linf = 0;                // worst face, normalized
-  int flipped_faces = 0;          // signed UV area <= tiny (flipped or degenerate)
+  int flipped_faces = 0;          // signed UV area <= tiny (flipped or degenerate); with holes,
+                                  // also the fill faces of a hole turned inside out
   std::vector<double> face_l2;    // per face, normalized (same scale as l2)
   std::vector<double> vertex_l2;  // per vertex: area-weighted L2 of its faces, normalized
 };

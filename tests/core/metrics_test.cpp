@@ -47,6 +47,43 @@ TEST(Metrics, MeshStretchIsScaleInvariantAndOneForSimilarities) {
   for (double f : t.face_l2) EXPECT_NEAR(f, t.l2, 1e-12);
 }
 
+TEST(Metrics, AHoleTurnedInsideOutCountsItsFillFacesAsFlipped) {
+  // An annulus (inner ring of 8 at radius 1, outer at radius 2): its hole is filled with a fan
+  // of 8 virtual faces.
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V(16, 3);
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F(16, 3);
+  for (int k = 0; k < 8; ++k) {
+    const double a = 2 * 3.14159265358979323846 * k / 8;
+    V.row(k) << std::cos(a), std::sin(a), 0;
+    V.row(8 + k) << 2 * std::cos(a), 2 * std::sin(a), 0;
+    F.row(2 * k) << k, 8 + k, 8 + (k + 1) % 8;
+    F.row(2 * k + 1) << k, 8 + (k + 1) % 8, (k + 1) % 8;
+  }
+  const Patch patch = buildPatch(V, F);
+  ASSERT_EQ(patch.holes_filled, 1);
+  std::vector<Eigen::Vector2d> uv = affineUVs(patch, Eigen::Matrix2d::Identity());
+  EXPECT_EQ(stretchMetrics(patch, uv).flipped_faces, 0);
+  EXPECT_FALSE(hasFlippedFace(patch, uv));
+  // The inner ring's positions taken in reverse order: the hole's border runs the other way.
+  // Counted by hand: the real faces that flip, then the fill's 8 faces on top; flipped means
+  std::vector<Eigen::Vector2d> reversed = uv;
+  for (int k = 0; k < 8; ++k) reversed[patch.local_vertex[k]] = uv[patch.local_vertex[(8 - k) % 8]];
+  // against the side most of the area is on (metrics.h's flip rule).
+  std::vector<double> twice_area;
+  double total = 0;
+  for (int f = 0; f < patch.real_face_count; ++f) {
+    const auto& t = patch.face[f];
+    const Eigen::Vector2d a = reversed[t[0]], b = reversed[t[1]], c = reversed[t[2]];
+    twice_area.push_back((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    total += twice_area.back();
+  }
+  ASSERT_GT(total, 0);
+  int real_flipped = 0;
+  for (double a : twice_area) real_flipped += a <= 0;
+  EXPECT_EQ(stretchMetrics(patch, reversed).flipped_faces, real_flipped + 8);
+  EXPECT_TRUE(hasFlippedFace(patch, reversed));
+}
+
 TEST(Metrics, FlippedAndDegenerateFacesAreCounted) {
   const test::Mesh m = test::planarGrid(4);
   const Patch patch = buildPatch(m.V, m.F);
