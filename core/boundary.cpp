@@ -17,8 +17,6 @@
 namespace sdp {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // 3D lengths of the boundary edges b_k -> b_{k+1}, floored so that a zero-length edge cannot
 // put two boundary vertices on one point.
 std::vector<double> boundarySpacing(const Patch& patch) {

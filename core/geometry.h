@@ -10,6 +10,8 @@
 
 namespace sdp {
 
+constexpr double kPi = 3.14159265358979323846;
+
 // The z of (a, 0) x (b, 0): twice the signed area of the triangle 0, a, b.
 inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();

@@ -8,8 +8,6 @@
 namespace sdp {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 void uniformWeights(int n, double* w) {
   for (int k = 0; k < n; ++k) w[k] = 1.0 / n;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "core/geometry.h"
 #include "pack.h"
 
 namespace sdp::atlas {
@@ -106,7 +107,7 @@ std::optional<ConvexCut> bestConvexCut(const std::vector<Eigen::Vector2d>& uv,
   double best_score = 0;
   std::vector<double> height(polygon.size());
   for (int d = 0; d < kDirections; ++d) {
-    const double angle = M_PI * d / kDirections;  // a line and its reverse are the same cut
+    const double angle = kPi * d / kDirections;  // a line and its reverse are the same cut
     const Eigen::Vector2d normal(std::cos(angle), std::sin(angle));
     double low = std::numeric_limits<double>::infinity(), high = -low;
     for (size_t i = 0; i < polygon.size(); ++i) {

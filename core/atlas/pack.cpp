@@ -10,6 +10,7 @@
 
 #include "convex_cut.h"
 #include "core/error.h"
+#include "core/geometry.h"
 #include "core/parallel.h"
 #include "raster.h"
 
@@ -80,7 +81,7 @@ Eigen::Matrix2d smallestBoxRotation(const std::vector<Eigen::Vector2d>& uv) {
     const Eigen::Vector2d size = boundsOf(hull, r).extent();
     if (size.x() * size.y() < best_area * (1 - 1e-9)) {
       best_area = size.x() * size.y();
-      best = size.x() >= size.y() ? r : Eigen::Matrix2d(rotationBy(M_PI / 2) * r);
+      best = size.x() >= size.y() ? r : Eigen::Matrix2d(rotationBy(kPi / 2) * r);
     }
   }
   return best;
