@@ -18,9 +18,14 @@ int distinctCount(std::vector<int>& values) {
 }  // namespace
 
 bool Connectivity::isDisk() const {
-  return components == 1 && boundary_loops == 1 && non_manifold_edges == 0 &&
-         non_manifold_vertices == 0 && inconsistent_edges == 0 && degenerate_faces == 0 &&
-         genus(0) == 0;
+  return diskHoles() == 0;
+}
+
+int Connectivity::diskHoles() const {
+  const bool disk_like = components == 1 && boundary_loops >= 1 && non_manifold_edges == 0 &&
+                         non_manifold_vertices == 0 && inconsistent_edges == 0 &&
+                         degenerate_faces == 0 && genus(0) == 0;
+  return disk_like ? boundary_loops - 1 : -1;
 }
 
 namespace {

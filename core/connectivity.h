@@ -36,6 +36,9 @@ struct Connectivity {
 
   // One component, one boundary loop, genus 0, no non-manifold element, consistently oriented.
   bool isDisk() const;
+  // Inner boundary loops (holes) when the mesh is a disk with holes (as isDisk, with one or more
+  // boundary loops): loops - 1; -1 when it is not.
+  int diskHoles() const;
   // The genus of component c (meaningful when it is manifold and orientable).
   int genus(int c) const { return (2 - euler_characteristic[c] - component_loops[c]) / 2; }
 };

@@ -262,8 +262,11 @@ constexpr double kCutMinGain = 0.005;
 constexpr double kCutMinSide = 0.05;
 // A piece is first cut along its sharp edges (dihedral angle above 40 degrees) into feature
 // patches of at least kFewestPatchFaces faces (cutIntoDisks).
-const double kSharpEdgeCos = std::cos(40.0 * 3.14159265358979323846 / 180);
+const double kSharpEdgeCos = std::cos(40.0 * kPi / 180);
 constexpr int kFewestPatchFaces = 20;
+// A feature patch with holes is flattened whole when its holes could hold at most this share of
+// its area (AtlasBuilder::holesAreSmall).
+constexpr double kMostHoleAreaShare = 0.25;
 // Merging charts back (AtlasBuilder::mergeCharts) flattens at most kMergedFacesPerFace faces per
 // face of the mesh, at least kMergedFacesFloor (all passes, at most kMostMergePasses, up to about
 // 50k faces); above 200k faces each face adds one, not two: a pass costs about as much as the
@@ -694,8 +697,8 @@ class AtlasBuilder {
     return ready;
   }
 
-  // A piece that is not a disk in disks: in its feature patches (bounded by sharp edges) when it
-  // has several, each patch that is not a disk then split; else split into parts of about
+  // A piece that is not a disk in disks: in its feature patches (bounded by sharp edges), each
+  // patch that is neither a disk nor one with small holes then split into parts of about
   // facesPerFirstPart faces.
   std::vector<std::vector<int>> cutIntoDisks(const FaceGraph& graph, const std::vector<int>& faces,
                                              FaceScratch& scratch, const GrowthProgress& growth) {
@@ -704,18 +707,65 @@ class AtlasBuilder {
           std::max<int>(2, static_cast<int>(part.size() / facesPerFirstPart(F_.rows())));
       return splitFaces(graph, part, parts, scratch, &growth);
     };
+    // One patch (no sharp edges) is the piece itself, which is no disk but may be one with
+    // holes.
     std::vector<std::vector<int>> patches =
         featurePatches(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch);
-    if (patches.size() < 2) return split(faces);
     std::vector<std::vector<int>> disks;
     for (std::vector<int>& patch : patches) {
-      if (patch.size() == 1 || regionIsDisk(graph, patch, scratch)) {
+      // A patch with holes (a flat face around drilled holes) is flattened whole, its holes
+      // filled for the solve as the patch filter fills them, and split only when it fails the
+      // limits: cut into disks it would take a seam from every hole.
+      const int holes = patch.size() == 1 ? 0 : regionHoles(graph, patch, scratch);
+      if (holes == 0 || (holes > 0 && holesAreSmall(graph, patch, scratch))) {
         disks.push_back(std::move(patch));
         continue;
       }
       for (std::vector<int>& part : split(patch)) disks.push_back(std::move(part));
     }
     return disks;
+  }
+
+  // True when the holes of a disk with holes could hold at most kMostHoleAreaShare of its area:
+  // each hole's perimeter P bounds its area by P^2 / 4 pi (a circle's), the longest loop being
+  // the outer one. A ring (a plate's side wall, a hole's wall) fails: flattened whole it would
+  // leave its middle empty in the texture.
+  bool holesAreSmall(const FaceGraph& graph, const std::vector<int>& faces,
+                     FaceScratch& scratch) const {
+    std::vector<int>& region = scratch.region;
+    for (int f : faces) region[f] = 0;
+    std::vector<std::pair<int, int>> border;  // (from vertex, half-edge), as the faces run
+    double area = 0;
+    for (int f : faces) {
+      area += graph.area[f];
+      for (int k = 0; k < 3; ++k) {
+        const int across = graph.across[3 * f + k];
+        if (across < 0 || region[across] != 0) border.emplace_back(F_(f, k), 3 * f + k);
+      }
+    }
+    for (int f : faces) region[f] = kOutside;
+    std::sort(border.begin(), border.end());
+    std::vector<char> walked(border.size(), 0);
+    std::vector<double> perimeters;
+    for (size_t start = 0; start < border.size(); ++start) {
+      if (walked[start]) continue;
+      double perimeter = 0;
+      for (size_t at = start; !walked[at];) {
+        walked[at] = 1;
+        const int h = border[at].second, f = h / 3, k = h % 3;
+        const int to = F_(f, (k + 1) % 3);
+        perimeter += (V_.row(F_(f, k)) - V_.row(to)).norm();
+        const auto next = std::lower_bound(border.begin(), border.end(), std::make_pair(to, -1));
+        if (next == border.end() || next->first != to) break;
+        at = static_cast<size_t>(next - border.begin());
+      }
+      perimeters.push_back(perimeter);
+    }
+    std::sort(perimeters.begin(), perimeters.end());
+    double holes_area = 0;
+    for (size_t i = 0; i + 1 < perimeters.size(); ++i)
+      holes_area += perimeters[i] * perimeters[i] / (4 * kPi);
+    return holes_area <= kMostHoleAreaShare * area;
   }
 
   // What a flattened disk becomes: a chart (keep), or pieces to chart again (split), each with

@@ -532,6 +532,10 @@ std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::
 }
 
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {
+  return regionHoles(graph, faces, scratch) == 0;
+}
+
+int regionHoles(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {
   const Triangles& F = *graph.F;
   std::vector<int>& local = scratch.vertex;
   Triangles sub(faces.size(), 3);
@@ -544,7 +548,7 @@ bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScr
     }
   for (int f : faces)
     for (int k = 0; k < 3; ++k) local[F(f, k)] = -1;
-  return analyzeConnectivity(sub, vertices).isDisk();
+  return analyzeConnectivity(sub, vertices).diskHoles();
 }
 
 }  // namespace sdp::atlas

@@ -85,4 +85,8 @@ std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& region_faces,
                   FaceScratch& scratch);
 
+// The holes of the faces when they form a disk with holes (as above, with one or more boundary
+// loops): the loops but one; -1 when they do not.
+int regionHoles(const FaceGraph& graph, const std::vector<int>& region_faces, FaceScratch& scratch);
+
 }  // namespace sdp::atlas

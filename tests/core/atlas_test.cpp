@@ -633,6 +633,49 @@ TEST(Atlas, ABoxIsUnfoldedAlongItsEdgesWithoutStretch) {
   EXPECT_LT(r.report.linf_stretch, 1.01);
 }
 
+// A flat sheet of n x n quads over [0, 1]^2 with the quads (i, j) of `removed` cut out.
+Mesh sheetWithHoles(int n, const std::vector<std::pair<int, int>>& removed) {
+  const Mesh grid = test::grid(n, 1.0, 1.0, [](double, double) { return 0.0; });
+  std::vector<int> kept;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      if (std::find(removed.begin(), removed.end(), std::make_pair(i, j)) == removed.end())
+        kept.insert(kept.end(), {2 * (j * n + i), 2 * (j * n + i) + 1});
+  Mesh mesh;
+  mesh.V = grid.V;
+  mesh.F.resize(kept.size(), 3);
+  for (size_t f = 0; f < kept.size(); ++f) mesh.F.row(f) = grid.F.row(kept[f]);
+  return mesh;
+}
+
+TEST(Atlas, ASheetWithSmallHolesIsOneChartAndARingIsCut) {
+  // Holes of one quad each, far less than the sheet's area: the sheet is flattened whole, its
+  // holes filled for the solve, so no seam runs from hole to hole.
+  // Beside it a square of its own, so that the sheet is not the whole mesh (a chart longer than
+  // the square root of the mesh's area is halved for packing).
+  Mesh drilled = sheetWithHoles(16, {{4, 4}, {11, 4}, {4, 11}, {11, 11}, {8, 8}});
+  const int sheet_vertices = static_cast<int>(drilled.V.rows());
+  drilled.V.conservativeResize(sheet_vertices + 4, 3);
+  drilled.V.bottomRows(4) << 0, 0, 5, 1, 0, 5, 1, 1, 5, 0, 1, 5;
+  drilled.F.conservativeResize(drilled.F.rows() + 2, 3);
+  drilled.F.bottomRows(2) << sheet_vertices, sheet_vertices + 1, sheet_vertices + 2, sheet_vertices,
+      sheet_vertices + 2, sheet_vertices + 3;
+  const AtlasOptions o = quickOptions();
+  const AtlasResult sheet = makeAtlas(drilled.V, drilled.F, o);
+  expectCertified(drilled, sheet, o);
+  EXPECT_EQ(sheet.report.charts, 2);
+  EXPECT_EQ(sheet.report.seam, 0);
+  EXPECT_LT(sheet.report.linf_stretch, 1.01);
+  // A ring (the middle 12 x 12 quads cut out) would leave its middle empty in the texture.
+  std::vector<std::pair<int, int>> middle;
+  for (int j = 2; j < 14; ++j)
+    for (int i = 2; i < 14; ++i) middle.emplace_back(i, j);
+  const Mesh ring = sheetWithHoles(16, middle);
+  const AtlasResult cut = makeAtlas(ring.V, ring.F, o);
+  expectCertified(ring, cut, o);
+  EXPECT_GE(cut.report.charts, 2);
+}
+
 TEST(Atlas, NeighbouringChartsMergeBackWithinTheChartLimits) {
   const Mesh mesh = torus(96, 32);  // cut first into parts no limit asked for
   AtlasOptions o = quickOptions();
