@@ -293,6 +293,19 @@ class Occupancy {
 
 // Charts with at least this many texture coordinates are searched by parallel workers.
 constexpr size_t kFewestPointsForParallelSearch = 100;
+// Whether a chart whose smallest rectangle is `extent`, at `scale`, is too long for the texture
+// along the rectangle's sides and shorter across its diagonal (a long strip: a CAD part's side
+// face of two triangles, which no cut can shorten).
+bool diagonalFits(const Eigen::Vector2d& extent, double scale, int size) {
+  const double along = extent.maxCoeff() * scale;
+  return along > size - 2 && extent.sum() * scale / std::sqrt(2.0) < along;
+}
+
+// The length of texture a chart needs: along its rectangle, or across it when that is shorter.
+double neededLength(const Eigen::Vector2d& extent) {
+  return std::min(extent.maxCoeff(), extent.sum() / std::sqrt(2.0));
+}
+
 // The columns tried first in each turn are shared out in this many slices, so that both cores
 // work on one chart whatever its turns cost.
 constexpr int kSlicesPerTurn = 2;
@@ -302,8 +315,9 @@ constexpr int kSlicesPerTurn = 2;
 // stride-th column, then a halving search around the best); returns the strip's used height,
 // or INT_MAX when a chart is wider than the texture.
 int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
-           const std::vector<std::vector<int>>& loops, const std::vector<int>& order, double scale,
-           const PackOptions& options, int attempt, std::vector<Placement>& placements) {
+           const std::vector<Eigen::Vector2d>& extent, const std::vector<std::vector<int>>& loops,
+           const std::vector<int>& order, double scale, const PackOptions& options, int attempt,
+           std::vector<Placement>& placements) {
   const int size = options.texture_size;
   const int reach = std::max(options.gutter - 1, 0);
   Occupancy occupancy(size);
@@ -318,8 +332,13 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
     const int c = order[placed];
     // A few calls per pack: enough for a progress bar to move during a long one.
     if (options.progress && placed % 16 == 0) options.progress(placed, n, attempt);
+    // A chart too long for the texture along its rectangle's sides may fit across its diagonal:
+    // turned by 45 degrees (the footprint is its cells, not its rectangle, so the corners it
+    // leaves stay free for others).
+    Eigen::Matrix2d frame = box[c];
+    if (diagonalFits(extent[c], scale, size)) frame = rotationBy(kPi / 4) * box[c];
     std::vector<Eigen::Vector2d> p(charts[c].uv.size());
-    for (size_t i = 0; i < p.size(); ++i) p[i] = box[c] * charts[c].uv[i] * scale;
+    for (size_t i = 0; i < p.size(); ++i) p[i] = frame * charts[c].uv[i] * scale;
     // Each quarter turn and slice searched on its own (so in parallel), each keeping its lowest
     // spot; a spot is skipped only when it cannot beat the lowest its slice has found, so the
     // lowest of all is the same whatever the order, on any number of cores.
@@ -399,7 +418,7 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
     const Footprint& chosen = turned[best.turn];
     if (best.top == INT_MAX) return INT_MAX;
     occupancy.occupy(chosen, best.x, best.y);
-    placements[c].rotation = quarterTurn(best.turn) * box[c];
+    placements[c].rotation = quarterTurn(best.turn) * frame;
     placements[c].offset = Eigen::Vector2d(best.x, best.y) - chosen.base;
   }
   return occupancy.top();
@@ -414,6 +433,7 @@ constexpr size_t kMostPointsForFinePacking = 200000;
 // charts do not fit at it. Returns 0 when nothing fit.
 double largestFittingScale(const std::vector<ChartShape>& charts,
                            const std::vector<Eigen::Matrix2d>& box,
+                           const std::vector<Eigen::Vector2d>& extent,
                            const std::vector<std::vector<int>>& loops,
                            const std::vector<int>& order, double aim, bool must_beat,
                            const PackOptions& options, std::vector<Placement>& placements,
@@ -444,7 +464,7 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
   double last_scale = 0, last_height = 0;
   for (int attempt = 0; attempt < (fits > 0 ? kMostTries : kMostTriesToFit) && fails > 1.005 * fits;
        ++attempt) {
-    const int height = packAt(charts, box, loops, order, scale, options, attempts++, trial);
+    const int height = packAt(charts, box, extent, loops, order, scale, options, attempts++, trial);
     if (height <= size) {
       fits = scale;
       placements = trial;
@@ -505,7 +525,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
       });
   for (int c = 0; c < n; ++c) {  // in chart order: the same sum on any number of cores
     total += area[c];
-    longest = std::max(longest, extent[c].maxCoeff());
+    longest = std::max(longest, neededLength(extent[c]));
   }
   const int size = options.texture_size;
   // At `full` the charts' area would fill the square exactly: no packing does better.
@@ -535,8 +555,8 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] > key[b]; });
     const double scale =
-        largestFittingScale(charts, box, loops, order, kind == 0 ? aim : 1.005 * fits, kind > 0,
-                            options, trial, packing.attempts);
+        largestFittingScale(charts, box, extent, loops, order, kind == 0 ? aim : 1.005 * fits,
+                            kind > 0, options, trial, packing.attempts);
     if (scale > fits) {
       fits = scale;
       packing.placements = trial;
