@@ -29,6 +29,7 @@
 #include "core/work.h"
 #include "measure.h"
 #include "pack.h"
+#include "planar_chart.h"
 
 namespace sdp::atlas {
 namespace {
@@ -104,15 +105,29 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
   }
   Positions subV(input_vertex.size(), 3);
   for (size_t v = 0; v < input_vertex.size(); ++v) subV.row(v) = V.row(input_vertex[v]);
+  chart.faces = faces;
+  chart.corner_row.resize(faces.size());
+  for (size_t i = 0; i < faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) chart.corner_row[i][k] = sub(i, k);
+  chart.report.faces = static_cast<int>(faces.size());
+  chart.report.area = facesArea(V, F, faces);
+  if (std::optional<std::vector<Eigen::Vector2d>> projected = projectIfPlanar(subV, sub)) {
+    chart.uv = std::move(*projected);
+    Layout layout;
+    layout.uv.resize(chart.uv.size(), 2);
+    for (size_t v = 0; v < chart.uv.size(); ++v) layout.uv.row(v) = chart.uv[v].transpose();
+    layout.face_uv = sub;
+    const StretchMetrics stretch = layoutStretch(subV, sub, layout);
+    chart.report.l2_stretch = stretch.l2;
+    chart.report.linf_stretch = stretch.linf;
+    chart.report.boundary_used = "planar projection";
+    chart.linear_work = WorkCosts::kMetricsFace * static_cast<double>(faces.size());
+    return true;
+  }
   try {
     Result r = flattenDisk(subV, sub, options);
-    chart.faces = faces;
     chart.uv.resize(input_vertex.size());
     for (size_t v = 0; v < input_vertex.size(); ++v) chart.uv[v] = r.layout.uv.row(v).transpose();
-    chart.corner_row.resize(faces.size());
-    for (size_t i = 0; i < faces.size(); ++i)
-      for (int k = 0; k < 3; ++k) chart.corner_row[i][k] = sub(i, k);
-    chart.report.faces = static_cast<int>(faces.size());
     chart.report.l2_stretch = r.report.l2_stretch;
     chart.report.linf_stretch = r.report.linf_stretch;
     chart.report.boundary_used = r.report.boundary_used;
@@ -120,7 +135,6 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
     for (const auto& [key, work] : r.report.stage_work)
       (isRefineStage(key) ? chart.refine_work : chart.linear_work) += work;
     chart.stage_work = r.report.stage_work;
-    chart.report.area = facesArea(V, F, faces);
     return true;
   } catch (const ParameterizationError& e) {
     why = e.what();

@@ -676,6 +676,43 @@ TEST(Atlas, ASheetWithSmallHolesIsOneChartAndARingIsCut) {
   EXPECT_GE(cut.report.charts, 2);
 }
 
+TEST(Atlas, AFlatFaceOfSliversIsProjectedWithoutStretch) {
+  // A box whose faces are fans of needles (as CAD exporters triangulate flat faces): 40 points
+  // along one edge of each side, fanned to the opposite corner. Every chart is a flat face laid
+  // flat by projection, so no sliver stretches.
+  const int n = 40;
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::array<int, 3>> f;
+  const Eigen::Vector3d size(2, 1.5, 1);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      // The side's corner frame: origin o, edges a (the fanned one) and b, outward normal a x b.
+      Eigen::Vector3d o = Eigen::Vector3d::Zero(), a = Eigen::Vector3d::Zero(),
+                      b = Eigen::Vector3d::Zero();
+      const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+      a[i] = size[i], b[j] = size[j];
+      if (side == 1) o[axis] = size[axis];
+      if (side == 0) std::swap(a, b);  // the normal points out on both sides
+      const int first = static_cast<int>(v.size());
+      for (int k = 0; k <= n; ++k) v.push_back(o + a * k / n);
+      v.push_back(o + a + b), v.push_back(o + b);
+      for (int k = 0; k < n; ++k) f.push_back({first + k, first + k + 1, first + n + 1});
+      f.push_back({first, first + n + 1, first + n + 2});
+    }
+  Mesh mesh;
+  mesh.V.resize(v.size(), 3);
+  for (size_t k = 0; k < v.size(); ++k) mesh.V.row(k) = v[k].transpose();
+  mesh.F.resize(f.size(), 3);
+  for (size_t k = 0; k < f.size(); ++k) mesh.F.row(k) << f[k][0], f[k][1], f[k][2];
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_EQ(r.report.charts, 6);
+  EXPECT_LT(r.report.linf_stretch, 1 + 1e-9);
+  for (const ChartReport& chart : r.report.chart_table)
+    EXPECT_EQ(chart.boundary_used, "planar projection");
+}
+
 TEST(Atlas, NeighbouringChartsMergeBackWithinTheChartLimits) {
   const Mesh mesh = torus(96, 32);  // cut first into parts no limit asked for
   AtlasOptions o = quickOptions();
@@ -818,6 +855,41 @@ TEST(AtlasPack, ConcaveChartsInterlockWithoutOverlapOrGutterBreach) {
     EXPECT_GT(area * packing.texels_per_unit * packing.texels_per_unit / (512.0 * 512.0), 0.5)
         << gutter;
   }
+}
+
+TEST(AtlasPack, AStripTooLongForTheTextureGoesAcrossItsDiagonal) {
+  // A strip of two triangles, 40 by 1: along the texture's side it would fit at 254 / 40 texels a
+  // unit; across the diagonal at up to sqrt(2) times that. Then it and a few squares beside it
+  // are checked pixel by pixel.
+  std::vector<ChartShape> charts;
+  charts.push_back({{{0, 0}, {40, 0}, {40, 1}, {0, 1}}, {{0, 1, 2}, {0, 2, 3}}});
+  for (int i = 0; i < 6; ++i) charts.push_back(gridChart(1, [](int, int) { return true; }));
+  PackOptions options;
+  options.texture_size = 256;
+  const Packing packing = packCharts(charts, options);
+  EXPECT_GT(packing.texels_per_unit, 1.3 * 254 / 40);
+  const Eigen::Vector2d along = packing.placements[0].rotation * Eigen::Vector2d(1, 0);
+  EXPECT_NEAR(std::abs(along.x()), std::abs(along.y()), 1e-9);  // at 45 degrees
+  Layout layout;
+  int rows = 0, faces = 0;
+  for (const ChartShape& c : charts) rows += c.uv.size(), faces += c.triangles.size();
+  layout.uv.resize(rows, 2);
+  layout.face_uv.resize(faces, 3);
+  layout.chart.resize(faces);
+  for (int c = 0, row = 0, f = 0; c < static_cast<int>(charts.size()); ++c) {
+    for (size_t v = 0; v < charts[c].uv.size(); ++v)
+      layout.uv.row(row + v) = packing.apply(c, charts[c].uv[v], 256).transpose();
+    for (const auto& t : charts[c].triangles) {
+      layout.face_uv.row(f) << row + t[0], row + t[1], row + t[2];
+      layout.chart[f++] = c;
+    }
+    row += charts[c].uv.size();
+  }
+  EXPECT_LE(layout.uv.maxCoeff(), 1.0);
+  EXPECT_GE(layout.uv.minCoeff(), 0.0);
+  const PixelMeasures pixels = measurePixels(layout, layout.chart, 256, options.gutter);
+  EXPECT_EQ(pixels.overlapping_pixels, 0);
+  EXPECT_EQ(pixels.gutter_violations, 0);
 }
 
 TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {

@@ -1,0 +1,27 @@
+// Flat faces laid flat exactly: a face set whose faces all face the same way (within
+// kPlanarChartDegrees of their mean normal) is projected onto the plane of that normal. On a
+// flat face of a CAD part this is an isometry, sliver by sliver (a fan-triangulated face's
+// needles keep their shape, where a refinement that weighs faces by area leaves them stretched),
+// at a fraction of the patch pipeline's cost; holes need no filling.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "core/layout.h"
+
+namespace sdp::atlas {
+
+// The largest angle between a face's normal and the faces' mean normal for a projection: the
+// projection shortens a face by at most its cosine (1/cos 2 degrees = 1.0006 in L-infinity).
+constexpr double kPlanarChartDegrees = 2.0;
+
+// The projected texture coordinates, one per vertex of V (counter-clockwise where the faces are),
+// when every face is within kPlanarChartDegrees of the mean normal and the projection is
+// one-to-one: no face flipped or degenerate, and no two border edges crossing or coming closer
+// than the refinement's clearance (free_boundary.h). Else nothing (the patch pipeline then
+// flattens the faces). F indexes V; every vertex of V is used.
+std::optional<std::vector<Eigen::Vector2d>> projectIfPlanar(const Positions& V, const Triangles& F);
+
+}  // namespace sdp::atlas
