@@ -126,6 +126,7 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   parallelFor(bands, 1, [&](int begin, int end, int) {
     const size_t rows = kBandRows + 2 * reach;
     std::vector<int> owner(rows * size), low(rows * size), high(rows * size);
+    std::vector<int> seen(size), least(size), greatest(size);
     std::vector<unsigned char> covers(static_cast<size_t>(kBandRows) * size);
     for (int b = begin; b < end; ++b) {
       const int row_begin = b * kBandRows, row_end = std::min(size, row_begin + kBandRows);
@@ -149,36 +150,52 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
       if (reach == 0) continue;  // a gutter of one texel: neighbours may belong to any chart
       // A covered pixel breaks the gutter when its window of (2 reach + 1)^2 pixels holds another
       // owner or a shared pixel: when the window's least and greatest owners (empty ones
-      // skipped) differ. Both are taken along rows, then along columns.
+      // skipped: the greatest reads them as kNone) differ. Both are taken along rows, then along
+      // columns, without branches (the passes visit every pixel of the texture).
+      constexpr int kNone = kShared - 1;
       const int grown_rows = grown_end - grown_begin;
       for (int y = 0; y < grown_rows; ++y) {
         const int* row = &owner[static_cast<size_t>(y) * size];
         int* row_low = &low[static_cast<size_t>(y) * size];
         int* row_high = &high[static_cast<size_t>(y) * size];
-        for (int x = 0; x < size; ++x) {
-          int least = kEmpty, greatest = kShared - 1;
-          for (int dx = std::max(0, x - reach); dx <= std::min(size - 1, x + reach); ++dx) {
-            const int o = row[dx];
-            if (o == kEmpty) continue;
-            least = std::min(least, o), greatest = std::max(greatest, o);
+        for (int x = 0; x < size; ++x) seen[x] = row[x] == kEmpty ? kNone : row[x];
+        std::copy(row, row + size, row_low);
+        std::copy(seen.begin(), seen.end(), row_high);
+        // Shift by shift, each loop plain enough to run in vector registers.
+        for (int d = 1; d <= reach && d < size; ++d) {
+          for (int x = 0; x < size - d; ++x) {
+            row_low[x] = std::min(row_low[x], row[x + d]);
+            row_high[x] = std::max(row_high[x], seen[x + d]);
           }
-          row_low[x] = least, row_high[x] = greatest;
+          for (int x = d; x < size; ++x) {
+            row_low[x] = std::min(row_low[x], row[x - d]);
+            row_high[x] = std::max(row_high[x], seen[x - d]);
+          }
         }
       }
+      long long broken = 0;
       for (int y = row_begin; y < row_end; ++y) {
         const int at = y - grown_begin;
         const int* row = &owner[static_cast<size_t>(at) * size];
         const int from = std::max(0, at - reach), to = std::min(grown_rows - 1, at + reach);
-        for (int x = 0; x < size; ++x) {
-          if (row[x] == kEmpty) continue;
-          int least = kEmpty, greatest = kShared - 1;
-          for (int r = from; r <= to; ++r) {
-            least = std::min(least, low[static_cast<size_t>(r) * size + x]);
-            greatest = std::max(greatest, high[static_cast<size_t>(r) * size + x]);
+        std::copy(&low[static_cast<size_t>(from) * size],
+                  &low[static_cast<size_t>(from) * size] + size, least.begin());
+        std::copy(&high[static_cast<size_t>(from) * size],
+                  &high[static_cast<size_t>(from) * size] + size, greatest.begin());
+        for (int r = from + 1; r <= to; ++r) {
+          const int* r_low = &low[static_cast<size_t>(r) * size];
+          const int* r_high = &high[static_cast<size_t>(r) * size];
+          for (int x = 0; x < size; ++x) {
+            least[x] = std::min(least[x], r_low[x]);
+            greatest[x] = std::max(greatest[x], r_high[x]);
           }
-          violations[b] += least != greatest || least == kShared;
         }
+        int row_broken = 0;
+        for (int x = 0; x < size; ++x)
+          row_broken += row[x] != kEmpty && (least[x] != greatest[x] || least[x] == kShared);
+        broken += row_broken;
       }
+      violations[b] = broken;
     }
   });
   for (int b = 0; b < bands; ++b) {
