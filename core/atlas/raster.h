@@ -42,6 +42,33 @@ void conservativeSpans(const Eigen::Vector2d p[3], double margin, int width, int
   }
 }
 
+// conservativeSpans of the segment ab (the triangle a, b, b), with the same arithmetic: the
+// packer rasters a chart's border edge by edge, and a third of the work went to the degenerate
+// triangle's empty edges.
+template <class VisitSpan>
+void conservativeSegmentSpans(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double margin,
+                              int width, int height, VisitSpan&& visit) {
+  const int row0 = std::max(0, static_cast<int>(std::floor(std::min(a.y(), b.y()) - margin)));
+  const int row1 =
+      std::min(height - 1, static_cast<int>(std::floor(std::max(a.y(), b.y()) + margin)));
+  for (int y = row0; y <= row1; ++y) {
+    const double s0 = y - margin, s1 = y + 1 + margin;
+    double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
+    auto take = [&](double x) { x_low = std::min(x_low, x), x_high = std::max(x_high, x); };
+    if (a.y() >= s0 && a.y() <= s1) take(a.x());
+    if (b.y() >= s0 && b.y() <= s1) take(b.x());
+    for (const double line : {s0, s1})
+      if ((a.y() - line) * (b.y() - line) < 0) {
+        take(a.x() + (b.x() - a.x()) * (line - a.y()) / (b.y() - a.y()));
+        take(b.x() + (a.x() - b.x()) * (line - b.y()) / (a.y() - b.y()));
+      }
+    if (!(x_low <= x_high)) continue;
+    const int x0 = std::max(0, static_cast<int>(std::floor(x_low - margin)));
+    const int x1 = std::min(width - 1, static_cast<int>(std::floor(x_high + margin)));
+    if (x0 <= x1) visit(y, x0, x1);
+  }
+}
+
 // Calls visit(x, y) for every cell of the grid that the triangle, grown by `margin` texels,
 // touches (conservativeSpans, cell by cell).
 template <class Visit>
