@@ -6,7 +6,8 @@
 // vertices at identical positions first, for tools that split vertices along their seams (else a
 // seam would look like the mesh's own boundary and go uncounted).
 // Prints one JSON object: faces, charts, seam, mirrored_charts, flipped_faces,
-// overlapping_pixels, gutter_violations, outside_faces, uncharted_faces, efficiency, l2, linf.
+// overlapping_pixels, gutter_violations, outside_faces, uncharted_faces, efficiency, l2, linf,
+// winding_turned_faces (faces read turned over: below).
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/atlas/measure.h"
+#include "core/connectivity.h"
 #include "io/mesh_io.h"
 
 int main(int argc, char** argv) {
@@ -61,8 +63,32 @@ int main(int argc, char** argv) {
         F(i, k) = welded[m.F(textured[i], k)];
         layout.face_uv(i, k) = m.texcoords.face_uv(textured[i], k);
       }
-    const sdp::atlas::AtlasMeasures a =
-        sdp::atlas::measureAtlas(V, F, layout, texture_size, gutter);
+    sdp::atlas::AtlasMeasures a = sdp::atlas::measureAtlas(V, F, layout, texture_size, gutter);
+    // A mesh whose faces are not wound alike (some against their neighbours) has two fair
+    // readings of a texture triangle's winding: against the file's order of corners, or against
+    // the surface's coherent orientation, which an atlas that charts across those edges follows.
+    // Each tool is judged by the reading it followed: the one with fewer flipped faces and
+    // mirrored charts.
+    int turned_faces = 0;
+    const sdp::Connectivity connectivity = sdp::analyzeConnectivity(F, kept);
+    if (connectivity.inconsistent_edges > 0) {
+      const std::vector<char> turn = sdp::coherentOrientation(F, connectivity);
+      sdp::Triangles turned_F = F;
+      sdp::Layout turned_layout = layout;
+      int turned = 0;
+      for (int f = 0; f < faces; ++f)
+        if (turn[f]) {
+          std::swap(turned_F(f, 1), turned_F(f, 2));
+          std::swap(turned_layout.face_uv(f, 1), turned_layout.face_uv(f, 2));
+          ++turned;
+        }
+      const sdp::atlas::AtlasMeasures coherent =
+          sdp::atlas::measureAtlas(V, turned_F, turned_layout, texture_size, gutter);
+      if (coherent.flipped_faces + coherent.mirrored_charts < a.flipped_faces + a.mirrored_charts) {
+        a = coherent;
+        turned_faces = turned;
+      }
+    }
     // Stretch is unbounded where a UV triangle has no area: JSON has no infinity, so null.
     auto number = [](double x) {
       char text[32];
@@ -74,10 +100,10 @@ int main(int argc, char** argv) {
         "{\"faces\": %d, \"charts\": %d, \"seam\": %s, \"mirrored_charts\": %d, "
         "\"flipped_faces\": %d, \"overlapping_pixels\": %lld, \"gutter_violations\": %lld, "
         "\"outside_faces\": %d, \"uncharted_faces\": %d, \"efficiency\": %s, \"l2\": %s, "
-        "\"linf\": %s}\n",
+        "\"linf\": %s, \"winding_turned_faces\": %d}\n",
         faces, a.charts, number(a.seam).c_str(), a.mirrored_charts, a.flipped_faces,
         a.overlapping_pixels, a.gutter_violations, a.outside_faces, faces_without_uv,
-        number(a.efficiency).c_str(), number(a.l2).c_str(), number(a.linf).c_str());
+        number(a.efficiency).c_str(), number(a.l2).c_str(), number(a.linf).c_str(), turned_faces);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sdp_atlas_score: %s\n", e.what());
