@@ -278,6 +278,11 @@ constexpr double kCutMinSide = 0.05;
 // patches of at least kFewestPatchFaces faces (cutIntoDisks).
 const double kSharpEdgeCos = std::cos(40.0 * kPi / 180);
 constexpr int kFewestPatchFaces = 20;
+// A feature patch that is still no disk (faces joined by fillets, which no sharp edge bounds) is
+// cut into flat patches (flatPatches), each facing within kFlatPatchDegrees of its seed face:
+// on the CAD models tuned with, 20 degrees gave the lowest median L-infinity (1.44; 15: 1.63,
+// 25: 1.57, 35: 1.66) for 3% more seam than splitting such patches by size alone.
+const double kFlatPatchCos = std::cos(20.0 * kPi / 180);
 // A feature patch with holes is flattened whole when its holes could hold at most this share of
 // its area (AtlasBuilder::holesAreSmall).
 constexpr double kMostHoleAreaShare = 0.25;
@@ -725,15 +730,35 @@ class AtlasBuilder {
     // holes.
     std::vector<std::vector<int>> patches =
         featurePatches(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch);
+    // A patch with holes (a flat face around drilled holes) is flattened whole, its holes
+    // filled for the solve as the patch filter fills them, and split only when it fails the
+    // limits: cut into disks it would take a seam from every hole.
+    auto flattenable = [&](const std::vector<int>& patch) {
+      const int holes = patch.size() == 1 ? 0 : regionHoles(graph, patch, scratch);
+      return holes == 0 || (holes > 0 && holesAreSmall(graph, patch, scratch));
+    };
+    // Only in a piece that has sharp edges (a mechanical part): an organic piece is split by
+    // size, as before.
+    const bool mechanical = patches.size() >= 2;
     std::vector<std::vector<int>> disks;
     for (std::vector<int>& patch : patches) {
-      // A patch with holes (a flat face around drilled holes) is flattened whole, its holes
-      // filled for the solve as the patch filter fills them, and split only when it fails the
-      // limits: cut into disks it would take a seam from every hole.
-      const int holes = patch.size() == 1 ? 0 : regionHoles(graph, patch, scratch);
-      if (holes == 0 || (holes > 0 && holesAreSmall(graph, patch, scratch))) {
+      if (flattenable(patch)) {
         disks.push_back(std::move(patch));
         continue;
+      }
+      if (mechanical) {
+        std::vector<std::vector<int>> flats =
+            flatPatches(graph, patch, kFlatPatchCos, kFewestPatchFaces, scratch);
+        if (flats.size() >= 2) {
+          for (std::vector<int>& flat : flats) {
+            if (flattenable(flat)) {
+              disks.push_back(std::move(flat));
+              continue;
+            }
+            for (std::vector<int>& part : split(flat)) disks.push_back(std::move(part));
+          }
+          continue;
+        }
       }
       for (std::vector<int>& part : split(patch)) disks.push_back(std::move(part));
     }

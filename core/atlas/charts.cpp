@@ -476,28 +476,15 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
   return result;
 }
 
-std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
-                                             double sharp_cos, int fewest, FaceScratch& scratch) {
-  std::vector<int>& patch = scratch.region;
-  for (int f : faces) patch[f] = kUnassigned;
-  std::vector<int> size;
-  for (int start : faces) {
-    if (patch[start] != kUnassigned) continue;
-    const int id = static_cast<int>(size.size());
-    std::vector<int> queue = {start};
-    patch[start] = id;
-    for (size_t i = 0; i < queue.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const int f = queue[i], next = graph.across[3 * f + k];
-        if (next < 0 || patch[next] != kUnassigned) continue;
-        if (graph.normal[f].dot(graph.normal[next]) < sharp_cos) continue;
-        patch[next] = id;
-        queue.push_back(next);
-      }
-    size.push_back(static_cast<int>(queue.size()));
-  }
-  // Small patches join a neighbour, in patch order; `members` per patch, kept as they join.
-  std::vector<std::vector<int>> members(size.size());
+namespace {
+
+// The patches of `patch` (per face its patch id, `count` ids) as lists, after the patches of
+// fewer than `fewest` faces joined the neighbouring patch they share the most edges with (the
+// lowest id among equals), in id order. Leaves `patch` kOutside on the faces.
+std::vector<std::vector<int>> absorbSmallPatches(const FaceGraph& graph,
+                                                 const std::vector<int>& faces, int count,
+                                                 int fewest, std::vector<int>& patch) {
+  std::vector<std::vector<int>> members(count);
   for (int f : faces) members[patch[f]].push_back(f);
   for (size_t p = 0; p < members.size(); ++p) {
     if (members[p].empty() || static_cast<int>(members[p].size()) >= fewest) continue;
@@ -510,7 +497,7 @@ std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::
       }
     if (border.empty()) continue;
     std::sort(border.begin(), border.end());
-    int best = -1, most = 0;  // the patch across the most edges, the lowest among equals
+    int best = -1, most = 0;
     for (size_t i = 0; i < border.size();) {
       size_t j = i;
       while (j < border.size() && border[j] == border[i]) ++j;
@@ -529,6 +516,57 @@ std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::
     }
   for (int f : faces) patch[f] = kOutside;
   return result;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                             double sharp_cos, int fewest, FaceScratch& scratch) {
+  std::vector<int>& patch = scratch.region;
+  for (int f : faces) patch[f] = kUnassigned;
+  int count = 0;
+  for (int start : faces) {
+    if (patch[start] != kUnassigned) continue;
+    const int id = count++;
+    std::vector<int> queue = {start};
+    patch[start] = id;
+    for (size_t i = 0; i < queue.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const int f = queue[i], next = graph.across[3 * f + k];
+        if (next < 0 || patch[next] != kUnassigned) continue;
+        if (graph.normal[f].dot(graph.normal[next]) < sharp_cos) continue;
+        patch[next] = id;
+        queue.push_back(next);
+      }
+  }
+  return absorbSmallPatches(graph, faces, count, fewest, patch);
+}
+
+std::vector<std::vector<int>> flatPatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                          double cone_cos, int fewest, FaceScratch& scratch) {
+  std::vector<int>& patch = scratch.region;
+  for (int f : faces) patch[f] = kUnassigned;
+  // Seeds largest first (a CAD part's flat faces before its fillets' strips), ties by index.
+  std::vector<int> seeds = faces;
+  std::stable_sort(seeds.begin(), seeds.end(),
+                   [&](int a, int b) { return graph.area[a] > graph.area[b]; });
+  int count = 0;
+  for (int start : seeds) {
+    if (patch[start] != kUnassigned) continue;
+    const int id = count++;
+    const Eigen::Vector3d& seed_normal = graph.normal[start];
+    std::vector<int> queue = {start};
+    patch[start] = id;
+    for (size_t i = 0; i < queue.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const int next = graph.across[3 * queue[i] + k];
+        if (next < 0 || patch[next] != kUnassigned) continue;
+        if (seed_normal.dot(graph.normal[next]) < cone_cos) continue;
+        patch[next] = id;
+        queue.push_back(next);
+      }
+  }
+  return absorbSmallPatches(graph, faces, count, fewest, patch);
 }
 
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {

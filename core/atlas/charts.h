@@ -80,6 +80,13 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
 std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
                                              double sharp_cos, int fewest, FaceScratch& scratch);
 
+// The faces of the list in patches that each face about one way: grown from the largest faces
+// first, each across the edges to faces whose normal is within the angle whose cosine is
+// `cone_cos` of its seed face's. Small patches join a neighbour as in featurePatches. For a
+// piece with no sharp edges left to cut along, as a CAD part's faces joined by fillets are.
+std::vector<std::vector<int>> flatPatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                          double cone_cos, int fewest, FaceScratch& scratch);
+
 // True when the faces form a disk (one consistently oriented manifold piece with
 // one boundary loop and Euler characteristic 1).
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& region_faces,

@@ -623,6 +623,37 @@ TEST(AtlasCharts, FeaturePatchesFollowSharpEdgesAndAbsorbSmallOnes) {
   for (int f : faces) EXPECT_EQ(scratch.region[f], kOutside);
 }
 
+TEST(AtlasCharts, FlatPatchesSeparateFacesAFilletJoins) {
+  // A sheet bent by 60 degrees through a fillet over a fifth of its width (about 10 degrees per
+  // edge): no sharp edge, so one feature patch, but the two flat legs face apart.
+  const double slope = std::tan(60.0 * M_PI / 180);
+  const Mesh mesh = test::grid(30, 1.0, 1.0, [&](double x, double) {
+    if (x <= 0.4) return 0.0;
+    if (x >= 0.6) return slope * (x - 0.5);
+    return slope * (x - 0.4) * (x - 0.4) / 0.4;  // the slope grows linearly across the fillet
+  });
+  const Connectivity c = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
+  const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, c);
+  std::vector<int> faces(mesh.F.rows());
+  std::iota(faces.begin(), faces.end(), 0);
+  FaceScratch scratch(graph);
+  EXPECT_EQ(featurePatches(graph, faces, std::cos(40.0 * M_PI / 180), 20, scratch).size(), 1u);
+  const auto flats = flatPatches(graph, faces, std::cos(20.0 * M_PI / 180), 20, scratch);
+  ASSERT_GE(flats.size(), 2u);
+  size_t total = 0;
+  for (const auto& patch : flats) {
+    total += patch.size();
+    bool left = false, right = false;  // a face on each flat leg
+    for (int f : patch) {
+      const double x = graph.centroid[f].x();
+      left |= x<0.35, right |= x> 0.65;
+    }
+    EXPECT_FALSE(left && right);
+  }
+  EXPECT_EQ(total, faces.size());
+  for (int f : faces) EXPECT_EQ(scratch.region[f], kOutside);
+}
+
 TEST(Atlas, ABoxIsUnfoldedAlongItsEdgesWithoutStretch) {
   const Mesh mesh = box(8, 1, 2, 3);
   const AtlasOptions o = quickOptions();
