@@ -732,13 +732,17 @@ class AtlasBuilder {
         featurePatches(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch);
     // A patch with holes (a flat face around drilled holes) is flattened whole, its holes
     // filled for the solve as the patch filter fills them, and split only when it fails the
-    // limits: cut into disks it would take a seam from every hole.
+    // limits: cut into disks it would take a seam from every hole. Not above the first cut's
+    // part size: a scan with holes punched is a sphere with small holes, and is cut into parts
+    // at once as before, not flattened whole first.
+    const size_t part_size = facesPerFirstPart(F_.rows());
     auto flattenable = [&](const std::vector<int>& patch) {
       const int holes = patch.size() == 1 ? 0 : regionHoles(graph, patch, scratch);
-      return holes == 0 || (holes > 0 && holesAreSmall(graph, patch, scratch));
+      return holes == 0 ||
+             (holes > 0 && patch.size() <= part_size && holesAreSmall(graph, patch, scratch));
     };
-    // Only in a piece that has sharp edges (a mechanical part): an organic piece is split by
-    // size, as before.
+    // Only in a piece that has sharp edges (a mechanical part), and up to the part size: an
+    // organic piece, or a large noisy one, is split by size as before.
     const bool mechanical = patches.size() >= 2;
     std::vector<std::vector<int>> disks;
     for (std::vector<int>& patch : patches) {
@@ -746,7 +750,7 @@ class AtlasBuilder {
         disks.push_back(std::move(patch));
         continue;
       }
-      if (mechanical) {
+      if (mechanical && patch.size() <= part_size) {
         std::vector<std::vector<int>> flats =
             flatPatches(graph, patch, kFlatPatchCos, kFewestPatchFaces, scratch);
         if (flats.size() >= 2) {
