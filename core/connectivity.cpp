@@ -217,6 +217,19 @@ std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count) {
   return keys;
 }
 
+std::vector<HalfEdgeKey> borderHalfEdges(const Triangles& F, int vertex_count) {
+  std::vector<HalfEdgeKey> keys = sortedHalfEdges(F, vertex_count);
+  size_t kept = 0;
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i;
+    while (j < keys.size() && keys[j].low == keys[i].low && keys[j].high == keys[i].high) ++j;
+    if (j - i == 1) keys[kept++] = keys[i];
+    i = j;
+  }
+  keys.resize(kept);
+  return keys;
+}
+
 std::vector<char> coherentOrientation(const Triangles& F, const Connectivity& connectivity) {
   const int faces = static_cast<int>(F.rows());
   std::vector<char> turn(faces, 0), seen(faces, 0);

@@ -54,6 +54,9 @@ struct HalfEdgeKey {
 // one edge are neighbours; in linear time (a counting sort on the lower end). `vertex_count`
 // bounds the indices of F.
 std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count);
+// The half-edges alone on their edge (the faces' border, each as its face runs), in the order of
+// sortedHalfEdges.
+std::vector<HalfEdgeKey> borderHalfEdges(const Triangles& F, int vertex_count);
 
 // Which faces to turn over (reverse their winding) so that faces joined across two-face edges
 // agree, per face 1 = turn over. Faces are walked breadth-first from each piece's first face; in

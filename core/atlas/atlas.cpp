@@ -608,9 +608,7 @@ class AtlasBuilder {
             std::max({a.report.linf_stretch, b.report.linf_stretch, kMostKeptLinf}) ||
         boxArea(merged) > boxArea(a) + boxArea(b))
       return false;
-    const bool cut = !straightCutPieces(graph, merged, scratch.region).empty();
-    for (int f : merged.faces) scratch.region[f] = kOutside;
-    return !cut;
+    return straightCutPieces(graph, merged, scratch.region).empty();
   }
 
   // The area of the chart's smallest bounding rectangle, at the 3D scale: what packing gives it.

@@ -518,14 +518,16 @@ std::vector<std::vector<int>> absorbSmallPatches(const FaceGraph& graph,
   return result;
 }
 
-}  // namespace
-
-std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
-                                             double sharp_cos, int fewest, FaceScratch& scratch) {
-  std::vector<int>& patch = scratch.region;
+// Patches over `faces` (marked in `patch`), each grown from the next unassigned face of `seeds`
+// across the edges from a face `f` to a neighbour `next` unless separated(f, seed, next); then
+// small ones absorbed as absorbSmallPatches does.
+template <class Separated>
+std::vector<std::vector<int>> growPatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                          const std::vector<int>& seeds, int fewest,
+                                          std::vector<int>& patch, Separated separated) {
   for (int f : faces) patch[f] = kUnassigned;
   int count = 0;
-  for (int start : faces) {
+  for (int start : seeds) {
     if (patch[start] != kUnassigned) continue;
     const int id = count++;
     std::vector<int> queue = {start};
@@ -533,8 +535,7 @@ std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::
     for (size_t i = 0; i < queue.size(); ++i)
       for (int k = 0; k < 3; ++k) {
         const int f = queue[i], next = graph.across[3 * f + k];
-        if (next < 0 || patch[next] != kUnassigned) continue;
-        if (graph.normal[f].dot(graph.normal[next]) < sharp_cos) continue;
+        if (next < 0 || patch[next] != kUnassigned || separated(f, start, next)) continue;
         patch[next] = id;
         queue.push_back(next);
       }
@@ -542,31 +543,24 @@ std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::
   return absorbSmallPatches(graph, faces, count, fewest, patch);
 }
 
+}  // namespace
+
+std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                             double sharp_cos, int fewest, FaceScratch& scratch) {
+  return growPatches(graph, faces, faces, fewest, scratch.region, [&](int f, int, int next) {
+    return graph.normal[f].dot(graph.normal[next]) < sharp_cos;
+  });
+}
+
 std::vector<std::vector<int>> flatPatches(const FaceGraph& graph, const std::vector<int>& faces,
                                           double cone_cos, int fewest, FaceScratch& scratch) {
-  std::vector<int>& patch = scratch.region;
-  for (int f : faces) patch[f] = kUnassigned;
   // Seeds largest first (a CAD part's flat faces before its fillets' strips), ties by index.
   std::vector<int> seeds = faces;
   std::stable_sort(seeds.begin(), seeds.end(),
                    [&](int a, int b) { return graph.area[a] > graph.area[b]; });
-  int count = 0;
-  for (int start : seeds) {
-    if (patch[start] != kUnassigned) continue;
-    const int id = count++;
-    const Eigen::Vector3d& seed_normal = graph.normal[start];
-    std::vector<int> queue = {start};
-    patch[start] = id;
-    for (size_t i = 0; i < queue.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const int next = graph.across[3 * queue[i] + k];
-        if (next < 0 || patch[next] != kUnassigned) continue;
-        if (seed_normal.dot(graph.normal[next]) < cone_cos) continue;
-        patch[next] = id;
-        queue.push_back(next);
-      }
-  }
-  return absorbSmallPatches(graph, faces, count, fewest, patch);
+  return growPatches(graph, faces, seeds, fewest, scratch.region, [&](int, int seed, int next) {
+    return graph.normal[seed].dot(graph.normal[next]) < cone_cos;
+  });
 }
 
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {

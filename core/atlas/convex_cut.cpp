@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "core/connectivity.h"
 #include "core/geometry.h"
 #include "pack.h"
 
@@ -54,27 +55,17 @@ std::vector<Eigen::Vector2d> clip(const std::vector<Eigen::Vector2d>& polygon,
 }  // namespace
 
 std::vector<int> boundaryLoop(const std::vector<std::array<int, 3>>& triangles) {
-  // Sorted arrays rather than maps: the packer and the cuts ask this of every chart.
-  struct HalfEdge {
-    int low, high, from, to;
-  };
-  std::vector<HalfEdge> halves;
-  halves.reserve(3 * triangles.size());
-  for (const auto& t : triangles)
+  Triangles F(triangles.size(), 3);
+  int vertices = 0;
+  for (size_t i = 0; i < triangles.size(); ++i)
     for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      halves.push_back({std::min(a, b), std::max(a, b), a, b});
+      F(i, k) = triangles[i][k];
+      vertices = std::max(vertices, triangles[i][k] + 1);
     }
-  std::sort(halves.begin(), halves.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.low != y.low ? x.low < y.low : x.high < y.high;
-  });
   std::vector<std::pair<int, int>> next;  // boundary half-edges (from, to), as the faces run
-  for (size_t i = 0; i < halves.size();) {
-    size_t j = i;
-    while (j < halves.size() && halves[j].low == halves[i].low && halves[j].high == halves[i].high)
-      ++j;
-    if (j - i == 1) next.emplace_back(halves[i].from, halves[i].to);
-    i = j;
+  for (const HalfEdgeKey& key : borderHalfEdges(F, vertices)) {
+    const int f = key.half_edge / 3, k = key.half_edge % 3;
+    next.emplace_back(F(f, k), F(f, (k + 1) % 3));
   }
   if (next.empty()) return {};
   std::sort(next.begin(), next.end());

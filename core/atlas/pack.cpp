@@ -100,16 +100,22 @@ const Eigen::Matrix2d& quarterTurn(int q) {
 // Cell runs [low, high] per column, sorted and disjoint.
 using Runs = std::vector<std::pair<int, int>>;
 
-// Sorts and merges runs that overlap or touch.
-void mergeRuns(Runs& runs) {
-  std::sort(runs.begin(), runs.end());
-  size_t kept = 0;
-  for (size_t i = 0; i < runs.size(); ++i)
-    if (kept > 0 && runs[i].first <= runs[kept - 1].second + 1)
+// Sorts runs[first, end) and merges those that overlap or touch, in place; returns the new end.
+size_t mergeRunsFrom(Runs& runs, size_t first) {
+  std::sort(runs.begin() + first, runs.end());
+  size_t kept = first;
+  for (size_t i = first; i < runs.size(); ++i)
+    if (kept > first && runs[i].first <= runs[kept - 1].second + 1)
       runs[kept - 1].second = std::max(runs[kept - 1].second, runs[i].second);
     else
       runs[kept++] = runs[i];
   runs.resize(kept);
+  return kept;
+}
+
+// Sorts and merges runs that overlap or touch.
+void mergeRuns(Runs& runs) {
+  mergeRunsFrom(runs, 0);
 }
 
 // Runs per column in one array, as a footprint's are: column i's are runs[begin[i] ..
@@ -132,18 +138,7 @@ struct ColumnRuns {
   int columns() const { return static_cast<int>(begin.size()) - 1; }
 
   // Ends the next column: the runs appended since the last one, sorted and merged.
-  void closeColumn() {
-    const size_t first = begin.back();
-    std::sort(runs.begin() + first, runs.end());
-    size_t kept = first;
-    for (size_t i = first; i < runs.size(); ++i)
-      if (kept > first && runs[i].first <= runs[kept - 1].second + 1)
-        runs[kept - 1].second = std::max(runs[kept - 1].second, runs[i].second);
-      else
-        runs[kept++] = runs[i];
-    runs.resize(kept);
-    begin.push_back(static_cast<int>(kept));
-  }
+  void closeColumn() { begin.push_back(static_cast<int>(mergeRunsFrom(runs, begin.back()))); }
 };
 
 // Runs given as (column, low, high) in any order, per column.

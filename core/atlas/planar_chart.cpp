@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/connectivity.h"
 #include "core/free_boundary.h"
 #include "core/geometry.h"
 #include "core/metrics.h"
@@ -49,22 +50,9 @@ std::optional<std::vector<Eigen::Vector2d>> projectIfPlanar(const Positions& V,
     if (rule.flipped(a)) return std::nullopt;
   // ... and the border simple, with the refinement's clearance (a slit a hair's breadth wide
   // would touch itself once stored).
-  std::vector<std::array<int, 3>> corners;  // (low, high, from) per half-edge
-  corners.reserve(3 * faces);
-  for (int f = 0; f < faces; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      corners.push_back({std::min(a, b), std::max(a, b), a});
-    }
-  std::sort(corners.begin(), corners.end());
   std::vector<BorderEdge> border;
-  for (size_t i = 0; i < corners.size();) {
-    size_t j = i;
-    while (j < corners.size() && corners[j][0] == corners[i][0] && corners[j][1] == corners[i][1])
-      ++j;
-    if (j - i == 1) border.push_back({corners[i][0], corners[i][1]});
-    i = j;
-  }
+  for (const HalfEdgeKey& key : borderHalfEdges(F, static_cast<int>(V.rows())))
+    border.push_back({key.low, key.high});
   if (!edgesAreSimple(border, uv, borderClearance(border, uv))) return std::nullopt;
   return uv;
 }

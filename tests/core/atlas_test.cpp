@@ -842,6 +842,27 @@ TEST(AtlasConvexCut, AnLShapeIsCutAcrossItsArmAConvexChartIsNot) {
   EXPECT_NEAR(middle.offset * middle.normal.x(), 10, 1e-9);
 }
 
+// The charts placed by the packing, as one layout (each chart its own rows, faces in chart
+// order) for the pixel checks.
+Layout packedLayout(const std::vector<ChartShape>& charts, const Packing& packing, int size) {
+  Layout layout;
+  int rows = 0, faces = 0;
+  for (const ChartShape& c : charts) rows += c.uv.size(), faces += c.triangles.size();
+  layout.uv.resize(rows, 2);
+  layout.face_uv.resize(faces, 3);
+  layout.chart.resize(faces);
+  for (int c = 0, row = 0, f = 0; c < static_cast<int>(charts.size()); ++c) {
+    for (size_t v = 0; v < charts[c].uv.size(); ++v)
+      layout.uv.row(row + v) = packing.apply(c, charts[c].uv[v], size).transpose();
+    for (const auto& t : charts[c].triangles) {
+      layout.face_uv.row(f) << row + t[0], row + t[1], row + t[2];
+      layout.chart[f++] = c;
+    }
+    row += charts[c].uv.size();
+  }
+  return layout;
+}
+
 TEST(AtlasPack, ConcaveChartsInterlockWithoutOverlapOrGutterBreach) {
   // Twelve L-shaped charts and forty small squares (each footprint rastered from the chart's
   // border and the column lines inside it), packed and checked pixel by pixel at several gutters.
@@ -860,23 +881,9 @@ TEST(AtlasPack, ConcaveChartsInterlockWithoutOverlapOrGutterBreach) {
     options.texture_size = 512;
     options.gutter = gutter;
     const Packing packing = packCharts(charts, options);
-    Layout layout;
-    int rows = 0, faces = 0;
-    for (const ChartShape& c : charts) rows += c.uv.size(), faces += c.triangles.size();
-    layout.uv.resize(rows, 2);
-    layout.face_uv.resize(faces, 3);
-    layout.chart.resize(faces);
+    const Layout layout = packedLayout(charts, packing, 512);
     double area = 0;
-    for (int c = 0, row = 0, f = 0; c < static_cast<int>(charts.size()); ++c) {
-      for (size_t v = 0; v < charts[c].uv.size(); ++v)
-        layout.uv.row(row + v) = packing.apply(c, charts[c].uv[v], 512).transpose();
-      for (const auto& t : charts[c].triangles) {
-        layout.face_uv.row(f) << row + t[0], row + t[1], row + t[2];
-        layout.chart[f++] = c;
-      }
-      row += charts[c].uv.size();
-      area += uvArea(charts[c].uv, charts[c].triangles);
-    }
+    for (const ChartShape& c : charts) area += uvArea(c.uv, c.triangles);
     EXPECT_LE(layout.uv.maxCoeff(), 1.0);
     EXPECT_GE(layout.uv.minCoeff(), 0.0);
     const PixelMeasures pixels = measurePixels(layout, layout.chart, 512, gutter);
@@ -901,21 +908,7 @@ TEST(AtlasPack, AStripTooLongForTheTextureGoesAcrossItsDiagonal) {
   EXPECT_GT(packing.texels_per_unit, 1.3 * 254 / 40);
   const Eigen::Vector2d along = packing.placements[0].rotation * Eigen::Vector2d(1, 0);
   EXPECT_NEAR(std::abs(along.x()), std::abs(along.y()), 1e-9);  // at 45 degrees
-  Layout layout;
-  int rows = 0, faces = 0;
-  for (const ChartShape& c : charts) rows += c.uv.size(), faces += c.triangles.size();
-  layout.uv.resize(rows, 2);
-  layout.face_uv.resize(faces, 3);
-  layout.chart.resize(faces);
-  for (int c = 0, row = 0, f = 0; c < static_cast<int>(charts.size()); ++c) {
-    for (size_t v = 0; v < charts[c].uv.size(); ++v)
-      layout.uv.row(row + v) = packing.apply(c, charts[c].uv[v], 256).transpose();
-    for (const auto& t : charts[c].triangles) {
-      layout.face_uv.row(f) << row + t[0], row + t[1], row + t[2];
-      layout.chart[f++] = c;
-    }
-    row += charts[c].uv.size();
-  }
+  const Layout layout = packedLayout(charts, packing, 256);
   EXPECT_LE(layout.uv.maxCoeff(), 1.0);
   EXPECT_GE(layout.uv.minCoeff(), 0.0);
   const PixelMeasures pixels = measurePixels(layout, layout.chart, 256, options.gutter);

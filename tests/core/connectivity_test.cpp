@@ -77,6 +77,21 @@ TEST(Connectivity, TruckIsReportedNotRefused) {
   EXPECT_FALSE(c.isDisk());
 }
 
+TEST(Connectivity, BorderHalfEdgesAreTheEdgesOfOneFaceEach) {
+  // A square of two triangles (0 1 2, 0 2 3): the diagonal is shared, the four sides are the
+  // border, each as its face runs, in (low, high) order.
+  Triangles F(2, 3);
+  F << 0, 1, 2, 0, 2, 3;
+  const std::vector<HalfEdgeKey> border = borderHalfEdges(F, 4);
+  ASSERT_EQ(border.size(), 4u);
+  const int expected[4][3] = {{0, 1, 0}, {0, 3, 5}, {1, 2, 1}, {2, 3, 4}};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(border[i].low, expected[i][0]) << i;
+    EXPECT_EQ(border[i].high, expected[i][1]) << i;
+    EXPECT_EQ(border[i].half_edge, expected[i][2]) << i;
+  }
+}
+
 TEST(Connectivity, SmallCases) {
   // Two triangles touching at vertex 0 only: two pieces and a non-manifold vertex.
   const Connectivity bowtie = of({{0, 1, 2}, {0, 3, 4}}, 5);
