@@ -608,7 +608,8 @@ class AtlasBuilder {
             std::max({a.report.linf_stretch, b.report.linf_stretch, kMostKeptLinf}) ||
         boxArea(merged) > boxArea(a) + boxArea(b))
       return false;
-    return straightCutPieces(graph, merged, scratch.region).empty();
+    // As outcome() judges a chart: cut again when the cut leaves two pieces or more.
+    return straightCutPieces(graph, merged, scratch.region).size() < 2;
   }
 
   // The area of the chart's smallest bounding rectangle, at the 3D scale: what packing gives it.
