@@ -120,48 +120,63 @@ class ConnectivityAnalysis {
     }
   }
 
-  // Whether the faces at v form more than one fan joined across two-face edges at v (two cones
-  // touching at a point).
-  bool severalFans(int v, const std::vector<int>& local) const {
-    const int n = static_cast<int>(local.size());
-    DisjointSets fans(n);
-    for (int i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) {
-        const int h = 3 * local[i] + k;
-        if ((from(h) == v || to(h) == v) && c_.twin[h] >= 0) {
-          const int other = static_cast<int>(std::find(local.begin(), local.end(), c_.twin[h] / 3) -
-                                             local.begin());
-          if (other < n) fans.join(i, other);
-        }
-      }
-    int fan_count = 0;
-    for (int i = 0; i < n; ++i) fan_count += fans.find(i) == i;
-    return fan_count > 1;
-  }
+  // The corner of face f at vertex v (its first, for a face that repeats v).
+  int cornerOf(int f, int v) const { return 3 * f + (F_(f, 0) == v ? 0 : F_(f, 1) == v ? 1 : 2); }
 
-  // Per vertex its faces: non-manifold vertices, and the Euler characteristic V - E + F of each
-  // component (a vertex or edge shared by components counts once in each).
+  // Non-manifold vertices and the Euler characteristic V - E + F of each component (a vertex or
+  // edge shared by components counts once in each). A vertex's faces form fans joined across
+  // two-face edges at it: its corners (3 f + k at F(f, k)) joined across every twin pair at both
+  // of the pair's ends (and a face's corners at one vertex, when it repeats it) are its fans, one
+  // set each, named by its least corner. One pass over the half-edges and one over the corners,
+  // not a search per vertex among its faces (a third of the time at a million faces).
   void fansAndEulerCharacteristics() {
-    std::vector<int> face_begin(vertex_count_ + 1, 0), face_list(3 * static_cast<size_t>(faces_));
-    for (int f = 0; f < faces_; ++f)
-      for (int k = 0; k < 3; ++k) ++face_begin[F_(f, k) + 1];
-    for (int v = 0; v < vertex_count_; ++v) face_begin[v + 1] += face_begin[v];
-    std::vector<int> fill(face_begin.begin(), face_begin.end() - 1);
-    for (int f = 0; f < faces_; ++f)
-      for (int k = 0; k < 3; ++k) face_list[fill[F_(f, k)]++] = f;
-    c_.euler_characteristic.assign(c_.components, 0);
-    std::vector<int> local, parts;
-    for (int v = 0; v < vertex_count_; ++v) {
-      const int begin = face_begin[v], end = face_begin[v + 1];
-      if (begin == end) continue;
-      local.assign(face_list.begin() + begin, face_list.begin() + end);
-      if (severalFans(v, local)) ++c_.non_manifold_vertices;
-      parts.clear();
-      for (int f : local) parts.push_back(c_.component[f]);
-      const int distinct = distinctCount(parts);
-      for (int i = 0; i < distinct; ++i) ++c_.euler_characteristic[parts[i]];  // V
+    DisjointSets corners(3 * faces_);
+    for (int h = 0; h < 3 * faces_; ++h) {
+      const int t = c_.twin[h];
+      if (t < h) continue;  // each pair once; -1: no twin
+      const int f = h / 3, g = t / 3;
+      corners.join(cornerOf(f, from(h)), cornerOf(g, from(h)));
+      corners.join(cornerOf(f, to(h)), cornerOf(g, to(h)));
     }
+    for (int f = 0; f < faces_; ++f)
+      for (int k = 0; k < 3; ++k)
+        for (int l = k + 1; l < 3; ++l)
+          if (F_(f, k) == F_(f, l)) corners.join(3 * f + k, 3 * f + l);
+    // Per vertex its fans, counted, and one of them (its component stands for the vertex's when
+    // it has one fan: a fan lies in one component).
+    std::vector<int> fans(vertex_count_, 0), some_fan(vertex_count_, -1);
+    for (int c = 0; c < 3 * faces_; ++c) {
+      if (corners.find(c) != c) continue;
+      const int v = F_(c / 3, c % 3);
+      ++fans[v];
+      some_fan[v] = c;
+    }
+    c_.euler_characteristic.assign(c_.components, 0);
+    std::vector<std::pair<int, int>> shared;  // (vertex, component) at vertices of several fans
+    for (int v = 0; v < vertex_count_; ++v) {
+      if (fans[v] == 0) continue;
+      if (fans[v] == 1) {
+        ++c_.euler_characteristic[c_.component[some_fan[v] / 3]];  // V
+        continue;
+      }
+      ++c_.non_manifold_vertices;
+    }
+    for (int c = 0; c < 3 * faces_; ++c) {
+      if (corners.find(c) != c) continue;
+      const int v = F_(c / 3, c % 3);
+      if (fans[v] > 1) shared.emplace_back(v, c_.component[c / 3]);
+    }
+    std::sort(shared.begin(), shared.end());
+    shared.erase(std::unique(shared.begin(), shared.end()), shared.end());
+    for (const auto& [v, component] : shared) ++c_.euler_characteristic[component];  // V
+    std::vector<int> parts;
     for (const auto& [begin, end] : edge_groups_) {  // - E, once per component the edge is in
+      const int first = c_.component[keys_[begin].half_edge / 3];
+      if (end - begin == 1 ||
+          (end - begin == 2 && c_.component[keys_[begin + 1].half_edge / 3] == first)) {
+        --c_.euler_characteristic[first];
+        continue;
+      }
       parts.clear();
       for (size_t i = begin; i < end; ++i) parts.push_back(c_.component[keys_[i].half_edge / 3]);
       const int distinct = distinctCount(parts);
