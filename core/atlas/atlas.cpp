@@ -305,6 +305,8 @@ class AtlasBuilder {
     report(kConnectivityPercent);
     auto stage = start_;
     const FaceGraph graph = buildFaceGraph(V_, F_, connectivity);
+    edges_all_joined_ =
+        connectivity.non_manifold_edges == 0 && connectivity.inconsistent_edges == 0;
     report(kConnectivityPercent + 1);
     AtlasReport& r = result_.report;
     r.vertices = connectivity.vertices;
@@ -736,6 +738,11 @@ class AtlasBuilder {
     // at once as before, not flattened whole first.
     const size_t part_size = facesPerFirstPart(F_.rows());
     auto flattenable = [&](const std::vector<int>& patch) {
+      // Above the part size only a disk is flattened whole, and most such patches (a scan's
+      // whole piece) are not: the Euler characteristic says so without building their mesh.
+      if (patch.size() > part_size && edges_all_joined_ &&
+          regionEulerCharacteristic(graph, patch, scratch) != 1)
+        return false;
       const int holes = patch.size() == 1 ? 0 : regionHoles(graph, patch, scratch);
       return holes == 0 ||
              (holes > 0 && patch.size() <= part_size && holesAreSmall(graph, patch, scratch));
@@ -1042,6 +1049,8 @@ class AtlasBuilder {
   static constexpr int kMostScratchWorkers = 4;
   std::vector<std::unique_ptr<FaceScratch>> scratch_;  // per worker (forEachWithScratch)
   double total_area_ = 0;
+  // Every edge two faces share is one the face graph joins (regionEulerCharacteristic is exact).
+  bool edges_all_joined_ = false;
   double linear_work_ = 0, refine_work_ = 0;  // of every flattening, work.h
   std::atomic<bool> cancelled_{false};
 };

@@ -41,10 +41,13 @@ class Grower {
 
   void seed(int face, int id) {
     region_[face] = id;
-    if (id >= static_cast<int>(normal_sum_.size()))
+    if (id >= static_cast<int>(normal_sum_.size())) {
       normal_sum_.resize(id + 1, Eigen::Vector3d::Zero());
+      mean_normal_.resize(id + 1, Eigen::Vector3d::Zero());
+    }
     normal_sum_[id] += g_.area[face] * g_.normal[face];
     if (normal_sum_[id].squaredNorm() == 0) normal_sum_[id] = g_.normal[face];
+    mean_normal_[id] = normal_sum_[id].normalized();
     pushNeighbours(face, id, 0);
   }
 
@@ -63,6 +66,7 @@ class Grower {
       if (!keepsDisk(c.face, c.region)) continue;
       region_[c.face] = c.region;
       normal_sum_[c.region] += g_.area[c.face] * g_.normal[c.face];
+      mean_normal_[c.region] = normal_sum_[c.region].normalized();
       pushNeighbours(c.face, c.region, c.walked);
       if (progress_ && ++taken_ == kFacesPerProgress) (*progress_)(taken_), taken_ = 0;
     }
@@ -71,8 +75,7 @@ class Grower {
 
  private:
   double cost(int face, int id, double walked) const {
-    const Eigen::Vector3d n = normal_sum_[id].normalized();
-    return (1.0 - g_.normal[face].dot(n)) + compactness_ * walked / length_;
+    return (1.0 - g_.normal[face].dot(mean_normal_[id])) + compactness_ * walked / length_;
   }
 
   void pushNeighbours(int face, int id, double walked) {
@@ -121,6 +124,9 @@ class Grower {
   std::vector<int>& region_;
   double compactness_, length_;
   std::vector<Eigen::Vector3d> normal_sum_;
+  // normal_sum_ normalized, kept as it changes: each cost reads it (once per face taken, not
+  // per candidate weighed).
+  std::vector<Eigen::Vector3d> mean_normal_;
   CandidateQueue queue_;
   static constexpr int kFacesPerProgress = 16384;
   const GrowthProgress* progress_;
@@ -565,6 +571,31 @@ std::vector<std::vector<int>> flatPatches(const FaceGraph& graph, const std::vec
 
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {
   return regionHoles(graph, faces, scratch) == 0;
+}
+
+int regionEulerCharacteristic(const FaceGraph& graph, const std::vector<int>& faces,
+                              FaceScratch& scratch) {
+  const Triangles& F = *graph.F;
+  std::vector<int>& region = scratch.region;
+  std::vector<int>& seen = scratch.vertex;
+  for (int f : faces) region[f] = kMarked;
+  long long vertices = 0, joined_half_edges = 0, border_edges = 0;
+  for (int f : faces)
+    for (int k = 0; k < 3; ++k) {
+      int& v = seen[F(f, k)];
+      if (v < 0) v = 0, ++vertices;
+      const int next = graph.across[3 * f + k];
+      if (next >= 0 && region[next] == kMarked)
+        ++joined_half_edges;
+      else
+        ++border_edges;
+    }
+  for (int f : faces) {
+    region[f] = kOutside;
+    for (int k = 0; k < 3; ++k) seen[F(f, k)] = -1;
+  }
+  const long long edges = joined_half_edges / 2 + border_edges;
+  return static_cast<int>(vertices - edges + static_cast<long long>(faces.size()));
 }
 
 int regionHoles(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) {

@@ -92,6 +92,13 @@ std::vector<std::vector<int>> flatPatches(const FaceGraph& graph, const std::vec
 bool regionIsDisk(const FaceGraph& graph, const std::vector<int>& region_faces,
                   FaceScratch& scratch);
 
+// V - E + F of the faces of the list, counting as edges the graph's joins between them and their
+// border edges: their Euler characteristic when every edge two faces of the mesh share is one
+// the graph joins (no non-manifold or inconsistent edge). A disk has 1. Linear in the faces: a
+// check before regionHoles, which builds the faces' own mesh.
+int regionEulerCharacteristic(const FaceGraph& graph, const std::vector<int>& region_faces,
+                              FaceScratch& scratch);
+
 // The holes of the faces when they form a disk with holes (as above, with one or more boundary
 // loops): the loops but one; -1 when they do not.
 int regionHoles(const FaceGraph& graph, const std::vector<int>& region_faces, FaceScratch& scratch);

@@ -623,6 +623,33 @@ TEST(AtlasCharts, FeaturePatchesFollowSharpEdgesAndAbsorbSmallOnes) {
   for (int f : faces) EXPECT_EQ(scratch.region[f], kOutside);
 }
 
+TEST(AtlasCharts, EulerCharacteristicOfRegionsMatchesTheirMesh) {
+  // A closed box (2), one side (a disk: 1) and the four sides around it (a ring: 0): the count by
+  // the graph's joins, against regionHoles, which builds each region's own mesh.
+  const Mesh mesh = box(6, 1, 2, 3);
+  const Connectivity c = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
+  const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, c);
+  std::vector<int> all(mesh.F.rows());
+  std::iota(all.begin(), all.end(), 0);
+  FaceScratch scratch(graph);
+  EXPECT_EQ(regionEulerCharacteristic(graph, all, scratch), 2);
+  const auto sides = featurePatches(graph, all, std::cos(40.0 * M_PI / 180), 1, scratch);
+  ASSERT_EQ(sides.size(), 6u);
+  EXPECT_EQ(regionEulerCharacteristic(graph, sides[0], scratch), 1);
+  EXPECT_EQ(regionHoles(graph, sides[0], scratch), 0);
+  // The four sides that do not face the first one's way or the opposite.
+  std::vector<int> ring;
+  for (const auto& side : sides)
+    if (std::abs(graph.normal[side[0]].dot(graph.normal[sides[0][0]])) < 0.5)
+      ring.insert(ring.end(), side.begin(), side.end());
+  std::sort(ring.begin(), ring.end());
+  ASSERT_EQ(ring.size(), 4 * 72u);
+  EXPECT_EQ(regionEulerCharacteristic(graph, ring, scratch), 0);
+  EXPECT_EQ(regionHoles(graph, ring, scratch), 1);
+  for (int f : all) EXPECT_EQ(scratch.region[f], kOutside);
+  for (int v = 0; v < mesh.V.rows(); ++v) EXPECT_EQ(scratch.vertex[v], -1);
+}
+
 TEST(AtlasCharts, FlatPatchesSeparateFacesAFilletJoins) {
   // A sheet bent by 60 degrees through a fillet over a fifth of its width (about 10 degrees per
   // edge): no sharp edge, so one feature patch, but the two flat legs face apart.
