@@ -273,6 +273,7 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy) {
     bad.swap(still);
   }
   const char* name = uvStorageName(policy.precision);
+  bool border_simple = false;
   if (bad.empty()) {
     // Rounding can also make a border touch itself (two copies of a vertex split at a pinch,
     // a notch a hair's breadth wide): the vertices of the edges that meet move into their own
@@ -282,7 +283,10 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy) {
     constexpr int kSeparationSweeps = 10;
     for (int sweep = 0; sweep < kSeparationSweeps; ++sweep) {
       const std::vector<int> rows = verticesOfMeetingEdges(mesh.border, uv);
-      if (rows.empty()) break;
+      if (rows.empty()) {
+        border_simple = true;  // the same test as edgesAreSimple's: not run twice
+        break;
+      }
       const double fraction = std::ldexp(1.0, std::min(sweep, 6) - 6);
       for (int r : rows)
         if (map.separate(r, fraction)) moved[r] = 1;
@@ -295,7 +299,7 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy) {
                                 " faces stay flipped or degenerate after moving " +
                                 std::to_string(counts.moved_vertices) +
                                 " vertices (the map compresses them too much)");
-  if (!edgesAreSimple(mesh.border, uv))
+  if (!border_simple && !edgesAreSimple(mesh.border, uv))
     throw ParameterizationError("no one-to-one map as stored (" + std::string(name) +
                                 " texture coordinates): the rounded boundary touches itself");
   for (size_t r = 0; r < uv.size(); ++r) layout.uv.row(r) = uv[r].transpose();
