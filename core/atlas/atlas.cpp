@@ -1016,7 +1016,8 @@ class AtlasBuilder {
     report(kMeasurePercent + 2);
     if (stretch.flipped_faces > 0)
       throw ParameterizationError("internal error: the stored atlas has flipped faces");
-    const AtlasMeasures measures = measureAtlas(V_, F_, layout, 0, 0);
+    // The stretch is the one above, by the atlas's own charts; store() certified the pixels.
+    const AtlasMeasures measures = measureLayout(V_, F_, layout);
     r.charts = static_cast<int>(charts_.size());
     r.seam = measures.seam;
     r.packing_efficiency = measures.efficiency;

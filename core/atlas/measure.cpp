@@ -205,8 +205,7 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   return m;
 }
 
-AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout& layout,
-                           int texture_size, int gutter) {
+AtlasMeasures measureLayout(const Positions& V, const Triangles& F, const Layout& layout) {
   AtlasMeasures m;
   const int faces = static_cast<int>(F.rows());
   const EdgeGroups groups = edgeGroups(F);
@@ -228,13 +227,6 @@ AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout&
   }
   m.seam = area3d > 0 ? seam / std::sqrt(area3d) : 0;
 
-  // Orientation per chart, flips, stretch: one normalization over the atlas.
-  Layout charted = layout;
-  charted.chart = m.chart;
-  const StretchMetrics stretch = layoutStretch(V, F, charted);
-  m.l2 = stretch.l2;
-  m.linf = stretch.linf;
-  m.flipped_faces = stretch.flipped_faces;
   std::vector<double> chart_area(m.charts, 0.0);
   double uv_area = 0;
   for (int f = 0; f < faces; ++f) {
@@ -252,6 +244,19 @@ AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout&
   }
   for (double a : chart_area) m.mirrored_charts += a < 0;
   m.efficiency = uv_area;
+  return m;
+}
+
+AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout& layout,
+                           int texture_size, int gutter) {
+  AtlasMeasures m = measureLayout(V, F, layout);
+  // Orientation per chart, flips, stretch: one normalization over the atlas.
+  Layout charted = layout;
+  charted.chart = m.chart;
+  const StretchMetrics stretch = layoutStretch(V, F, charted);
+  m.l2 = stretch.l2;
+  m.linf = stretch.linf;
+  m.flipped_faces = stretch.flipped_faces;
   const PixelMeasures pixels = measurePixels(layout, m.chart, texture_size, gutter);
   m.overlapping_pixels = pixels.overlapping_pixels;
   m.gutter_violations = pixels.gutter_violations;

@@ -35,6 +35,10 @@ struct AtlasMeasures {
 // Charts by UV values (above), numbered by first face.
 std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* count = nullptr);
 
+// Charts, seam, mirrored charts, faces outside the square and efficiency: everything above but
+// the stretch, the flips and the pixel counts.
+AtlasMeasures measureLayout(const Positions& V, const Triangles& F, const Layout& layout);
+
 // Everything above; the pixel counts at `texture_size` (0: skipped) with `gutter` texels.
 AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout& layout,
                            int texture_size, int gutter);
