@@ -43,12 +43,17 @@ class ConnectivityAnalysis {
     c_.twin.assign(3 * static_cast<size_t>(faces_), -1);
   }
 
-  Connectivity run() {
+  Connectivity run(const std::function<void()>& step) {
+    auto stepped = [&] {
+      if (step) step();
+    };
     countVertices();
     sortEdges();
+    stepped();
     pairEdges();
     numberComponents();
     countBoundaryLoops();
+    stepped();
     fansAndEulerCharacteristics();
     return std::move(c_);
   }
@@ -196,8 +201,9 @@ class ConnectivityAnalysis {
 
 }  // namespace
 
-Connectivity analyzeConnectivity(const Triangles& F, int vertex_count) {
-  return ConnectivityAnalysis(F, vertex_count).run();
+Connectivity analyzeConnectivity(const Triangles& F, int vertex_count,
+                                 const std::function<void()>& step) {
+  return ConnectivityAnalysis(F, vertex_count).run(step);
 }
 
 std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count) {

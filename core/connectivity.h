@@ -8,6 +8,7 @@
 // corner k of face f to corner (k + 1) % 3.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "layout.h"
@@ -43,8 +44,11 @@ struct Connectivity {
   int genus(int c) const { return (2 - euler_characteristic[c] - component_loops[c]) / 2; }
 };
 
-// `vertex_count` bounds the indices of F (each in [0, vertex_count)).
-Connectivity analyzeConnectivity(const Triangles& F, int vertex_count);
+// `vertex_count` bounds the indices of F (each in [0, vertex_count)). `step`, when given, is
+// called between the analysis's steps, on the calling thread (seconds at millions of faces: a
+// front end's progress bar).
+Connectivity analyzeConnectivity(const Triangles& F, int vertex_count,
+                                 const std::function<void()>& step = {});
 
 // A half-edge h = 3 f + k by its undirected edge: its lower and higher end vertex.
 struct HalfEdgeKey {

@@ -219,9 +219,11 @@ void fitUnitSquare(const UvMesh& mesh, LocalUVs& uv) {
 
 }  // namespace
 
-StorageCounts store(Layout& layout, const StoragePolicy& policy) {
+StorageCounts store(Layout& layout, const StoragePolicy& policy,
+                    const std::function<void()>& step) {
   StorageCounts counts;
   const UvMesh mesh(layout);
+  if (step) step();
   LocalUVs uv(layout.uv.rows());
   for (size_t r = 0; r < uv.size(); ++r) uv[r] = layout.uv.row(r).transpose();
   if (policy.fit_unit_square) fitUnitSquare(mesh, uv);
@@ -231,6 +233,7 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy) {
   for (int f = 0; f < faces; ++f)
     if (!map.valid(f)) bad.push_back(f);
   counts.degenerate_faces = static_cast<int>(bad.size());
+  if (step) step();
 
   // Active rows: the corners of the faces still degenerate, grown by one ring after each sweep
   // that fixed none of them (the tiny faces sit in a cluster that needs room around it).
@@ -274,6 +277,7 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy) {
   }
   const char* name = uvStorageName(policy.precision);
   bool border_simple = false;
+  if (step) step();
   if (bad.empty()) {
     // Rounding can also make a border touch itself (two copies of a vertex split at a pinch,
     // a notch a hair's breadth wide): the vertices of the edges that meet move into their own

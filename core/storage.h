@@ -9,6 +9,7 @@
 // on the layout's own triangles (face_uv), so seams and several charts need nothing more.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "layout.h"
@@ -29,6 +30,8 @@ struct StorageCounts {
 // flipped or degenerate against that chart's orientation, and no two edges of the charts'
 // borders crossing or touching (within a chart or between charts). Throws ParameterizationError
 // with what failed; on success `layout` holds exactly the stored values.
-StorageCounts store(Layout& layout, const StoragePolicy& policy);
+// `step`, when given, is called between its steps on the calling thread (a progress bar).
+StorageCounts store(Layout& layout, const StoragePolicy& policy,
+                    const std::function<void()>& step = {});
 
 }  // namespace sdp

@@ -335,7 +335,7 @@ class AtlasBuilder {
         charts_.push_back(singleFaceChart(V_, F_, f, true, mean_edge));
       }
     std::vector<std::vector<int>> pieces = components(graph);
-    report(kConnectivityPercent + 2);
+    report(kConnectivityPercent + 1);  // a call, not a move: the cut starts at kCutPercent
     r.components = static_cast<int>(pieces.size());
     checkRoomForCharts(r.zero_area_faces + r.components);
     report(kCutPercent);
@@ -371,7 +371,7 @@ class AtlasBuilder {
   // (by faces flattened of its budget), the packing tries (by charts placed; packAndStore), storage
   // and measures. Shares near the stages' time at a million faces and more (`stage_seconds`), so
   // the bar moves every few seconds there.
-  static constexpr int kConnectivityPercent = 1, kCutPercent = 4, kFlattenPercent = 14,
+  static constexpr int kConnectivityPercent = 2, kCutPercent = 4, kFlattenPercent = 14,
                        kMergePercent = 58, kPackPercent = 68, kStorePercent = 90,
                        kMeasurePercent = 96;
 
@@ -601,7 +601,7 @@ class AtlasBuilder {
   // Flattens the pair's faces into `merged`; true when the merged chart is to replace the two.
   bool tryMerge(const FaceGraph& graph, const MergeTry& t, Chart& merged,
                 FaceScratch& scratch) const {
-    if (!regionIsDisk(graph, t.faces, scratch)) return false;
+    if (!isDisk(graph, t.faces, scratch)) return false;
     std::string why;
     if (!flattenChart(V_, F_, t.faces, chartOptions(t.faces.size()), merged, why)) return false;
     const Chart &a = charts_[t.a], &b = charts_[t.b];
@@ -693,7 +693,7 @@ class AtlasBuilder {
         [&](int i, FaceScratch& scratch) {
           const std::vector<int>& faces = pieces[i].faces;
           if (faces.size() == 1) return;
-          disk[i] = regionIsDisk(graph, faces, scratch);
+          disk[i] = isDisk(graph, faces, scratch);
           if (disk[i]) return;
           growth(static_cast<int>(faces.size()));
           cut[i] = cutIntoDisks(graph, faces, scratch, growth);
@@ -739,13 +739,10 @@ class AtlasBuilder {
     const size_t part_size = facesPerFirstPart(F_.rows());
     auto flattenable = [&](const std::vector<int>& patch) {
       // Above the part size only a disk is flattened whole, and most such patches (a scan's
-      // whole piece) are not: the Euler characteristic says so without building their mesh.
-      if (patch.size() > part_size && edges_all_joined_ &&
-          regionEulerCharacteristic(graph, patch, scratch) != 1)
-        return false;
+      // whole piece) are not: isDisk says so without building their mesh.
+      if (patch.size() > part_size) return isDisk(graph, patch, scratch);
       const int holes = patch.size() == 1 ? 0 : regionHoles(graph, patch, scratch);
-      return holes == 0 ||
-             (holes > 0 && patch.size() <= part_size && holesAreSmall(graph, patch, scratch));
+      return holes == 0 || (holes > 0 && holesAreSmall(graph, patch, scratch));
     };
     // Only in a piece that has sharp edges (a mechanical part), and up to the part size: an
     // organic piece, or a large noisy one, is split by size as before.
@@ -815,6 +812,13 @@ class AtlasBuilder {
     for (size_t i = 0; i + 1 < perimeters.size(); ++i)
       holes_area += perimeters[i] * perimeters[i] / (4 * kPi);
     return holes_area <= kMostHoleAreaShare * area;
+  }
+
+  // regionIsDisk, ruled out first by the Euler characteristic where that is exact: linear in the
+  // faces, where regionIsDisk builds their mesh (seconds for a scan's whole piece).
+  bool isDisk(const FaceGraph& graph, const std::vector<int>& faces, FaceScratch& scratch) const {
+    if (edges_all_joined_ && regionEulerCharacteristic(graph, faces, scratch) != 1) return false;
+    return regionIsDisk(graph, faces, scratch);
   }
 
   // What a flattened disk becomes: a chart (keep), or pieces to chart again (split), each with
@@ -963,10 +967,13 @@ class AtlasBuilder {
       stage = Clock::now();
       StoragePolicy policy;
       policy.precision = options_.storage;
-      const StorageCounts counts = store(layout, policy);
+      int store_step = 0;
+      const StorageCounts counts =
+          store(layout, policy, [&] { report(kStorePercent + ++store_step); });
       report(kStorePercent + 3);
-      const PixelMeasures pixels =
-          measurePixels(layout, layout.chart, options_.texture_size, options_.gutter);
+      const PixelMeasures pixels = measurePixels(
+          layout, layout.chart, options_.texture_size, options_.gutter,
+          [this](double done) { report(kStorePercent + 3 + static_cast<int>(2.99 * done)); });
       addToStage(r.stage_seconds, "store", secondsSince(stage));
       if (pixels.overlapping_pixels == 0 && pixels.gutter_violations == 0) {
         r.texels_per_unit = packing.texels_per_unit;
@@ -1017,7 +1024,8 @@ class AtlasBuilder {
     if (stretch.flipped_faces > 0)
       throw ParameterizationError("internal error: the stored atlas has flipped faces");
     // The stretch is the one above, by the atlas's own charts; store() certified the pixels.
-    const AtlasMeasures measures = measureLayout(V_, F_, layout);
+    const AtlasMeasures measures =
+        measureLayout(V_, F_, layout, [this] { report(kMeasurePercent + 3); });
     r.charts = static_cast<int>(charts_.size());
     r.seam = measures.seam;
     r.packing_efficiency = measures.efficiency;
@@ -1061,13 +1069,14 @@ class AtlasBuilder {
 // edges as the surface runs instead of cutting each one; the stored corners are then given back
 // in the face's own order, so such a face's UV triangle runs clockwise: counted, not a fold.
 AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const AtlasOptions& options,
-                               const Connectivity& input, Clock::time_point start) {
+                               const Connectivity& input, Clock::time_point start,
+                               const std::function<void()>& step) {
   const std::vector<char> turn = coherentOrientation(F, input);
   Triangles turned = F;
   int turned_faces = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (turn[f]) std::swap(turned(f, 1), turned(f, 2)), ++turned_faces;
-  const Connectivity connectivity = analyzeConnectivity(turned, static_cast<int>(V.rows()));
+  const Connectivity connectivity = analyzeConnectivity(turned, static_cast<int>(V.rows()), step);
   AtlasResult result = AtlasBuilder(V, turned, options, start).run(connectivity);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (turn[f]) std::swap(result.layout.face_uv(f, 1), result.layout.face_uv(f, 2));
@@ -1089,13 +1098,18 @@ AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const Atl
 AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions& options) {
   try {
     const Clock::time_point start = Clock::now();
-    // The bar starts before the connectivity, which takes seconds at millions of faces.
-    if (options.chart.progress && !options.chart.progress("atlas", 0))
-      throw ParameterizationError("cancelled by the user");
+    // The bar starts before the connectivity, which takes seconds at millions of faces, and
+    // moves within it (to 1 %; the builder starts at 2 %).
+    auto call = [&](int percent) {
+      if (options.chart.progress && !options.chart.progress("atlas", percent))
+        throw ParameterizationError("cancelled by the user");
+    };
+    call(0);
     checkInput(V, F, options);
-    const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()));
+    const std::function<void()> step = [&] { call(1); };
+    const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()), step);
     if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
-      return atlasOfTurnedFaces(V, F, options, connectivity, start);
+      return atlasOfTurnedFaces(V, F, options, connectivity, start, step);
     return AtlasBuilder(V, F, options, start).run(connectivity);
   } catch (const std::bad_alloc&) {
     throw ParameterizationError("not enough memory to make an atlas of a mesh of " +

@@ -82,7 +82,7 @@ std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* coun
 }
 
 PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart, int size,
-                            int gutter) {
+                            int gutter, const std::function<void(double)>& progress) {
   PixelMeasures m;
   if (size <= 0) return m;
   // Owners are chart numbers (>= 0), kEmpty or kShared; kShared is the least, kEmpty the greatest
@@ -123,7 +123,7 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
       for (int b = first_band[f]; b <= last_band[f]; ++b) band_face[fill[b]++] = f;
   }
   std::vector<long long> overlapping(bands, 0), violations(bands, 0);
-  parallelFor(bands, 1, [&](int begin, int end, int) {
+  parallelFor(bands, 1, [&](int begin, int end, int worker) {
     const size_t rows = kBandRows + 2 * reach;
     std::vector<int> owner(rows * size), low(rows * size), high(rows * size);
     std::vector<int> seen(size), least(size), greatest(size);
@@ -196,6 +196,7 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
         broken += row_broken;
       }
       violations[b] = broken;
+      if (worker == 0 && progress) progress(static_cast<double>(b + 1 - begin) / (end - begin));
     }
   });
   for (int b = 0; b < bands; ++b) {
@@ -205,11 +206,14 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   return m;
 }
 
-AtlasMeasures measureLayout(const Positions& V, const Triangles& F, const Layout& layout) {
+AtlasMeasures measureLayout(const Positions& V, const Triangles& F, const Layout& layout,
+                            const std::function<void()>& step) {
   AtlasMeasures m;
   const int faces = static_cast<int>(F.rows());
   const EdgeGroups groups = edgeGroups(F);
+  if (step) step();
   m.chart = chartsOfGroups(F, layout, groups, &m.charts);
+  if (step) step();
 
   // Seam and 3D area.
   double area3d = 0;

@@ -13,6 +13,7 @@
 //   L2, L-infinity   whole-atlas Sander stretch, normalized by one global scale
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "core/layout.h"
@@ -37,7 +38,9 @@ std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* coun
 
 // Charts, seam, mirrored charts, faces outside the square and efficiency: everything above but
 // the stretch, the flips and the pixel counts.
-AtlasMeasures measureLayout(const Positions& V, const Triangles& F, const Layout& layout);
+// `step`, when given, is called twice midway, on the calling thread (a progress bar).
+AtlasMeasures measureLayout(const Positions& V, const Triangles& F, const Layout& layout,
+                            const std::function<void()>& step = {});
 
 // Everything above; the pixel counts at `texture_size` (0: skipped) with `gutter` texels.
 AtlasMeasures measureAtlas(const Positions& V, const Triangles& F, const Layout& layout,
@@ -48,7 +51,8 @@ struct PixelMeasures {
   long long overlapping_pixels = 0;
   long long gutter_violations = 0;
 };
+// `progress`, when given, gets the share of the calling thread's rows done, on that thread.
 PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart, int texture_size,
-                            int gutter);
+                            int gutter, const std::function<void(double)>& progress = {});
 
 }  // namespace sdp::atlas

@@ -245,7 +245,9 @@ TEST(StoreStep, CertifiesEachChartOnItsOwn) {
   layout.face_uv << 0, 1, 2, 3, 4, 5;
   layout.chart = {0, 1};
   Layout two = layout;
-  EXPECT_NO_THROW(store(two, StoragePolicy{}));
+  int steps = 0;  // a front end's progress bar is called between the store's steps
+  EXPECT_NO_THROW(store(two, StoragePolicy{}, [&] { ++steps; }));
+  EXPECT_EQ(steps, 3);
   layout.chart = {0, 0};  // one chart: the second face is flipped against the first
   EXPECT_THROW(store(layout, StoragePolicy{}), ParameterizationError);
 }
