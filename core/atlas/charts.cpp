@@ -450,6 +450,17 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
   // sort rather than a search per seed (the Lloyd steps below place them either way).
   for (int f : faces) region[f] = kMarked;
   std::vector<int> seeds;
+  // The seeds count once over the faces for the progress bar, shared out as they are found (a
+  // search per seed: seconds for a few hundred parts of a large piece).
+  long long delivered = 0;
+  auto seedsFound = [&](size_t found) {
+    if (!progress) return;
+    const long long due = static_cast<long long>(faces.size()) *
+                          static_cast<long long>(std::min<size_t>(found, std::max(parts, 1))) /
+                          std::max(parts, 1);
+    if (due > delivered) (*progress)(static_cast<int>(due - delivered));
+    delivered = std::max(delivered, due);
+  };
   if (parts > kMostFarthestSeeds) {
     seeds = gridSeeds(graph, faces, kGridCellPerPartLength * length);
   } else {
@@ -463,11 +474,12 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
       if (distance[next] == 0) break;
       seeds.push_back(next);
       faceDistances(graph, region, kMarked, {next}, distance);
+      seedsFound(seeds.size());
     }
     for (int f : faces) distance[f] = std::numeric_limits<double>::infinity();
   }
 
-  if (progress) (*progress)(static_cast<int>(faces.size()));
+  seedsFound(static_cast<size_t>(parts));
   if (faces.size() < kFewestFacesForHalves || seeds.size() < 2) {
     const int made = growLloydParts(graph, faces, std::move(seeds), length, region, progress);
     result.resize(made);
