@@ -333,8 +333,10 @@ std::vector<int> gridSeeds(const FaceGraph& graph, const std::vector<int>& faces
   for (int f : faces) low = low.cwiseMin(graph.centroid[f]);
   using Key = std::array<long long, 3>;
   struct KeyHash {
-    size_t operator()(const Key& k) const {
-      return std::hash<long long>()(k[0] * 73856093LL ^ k[1] * 19349663LL ^ k[2] * 83492791LL);
+    size_t operator()(const Key& k) const {  // unsigned: wraps, never overflows
+      const auto u = [](long long v) { return static_cast<unsigned long long>(v); };
+      return static_cast<size_t>(u(k[0]) * 73856093ULL ^ u(k[1]) * 19349663ULL ^
+                                 u(k[2]) * 83492791ULL);
     }
   };
   struct Nearest {
