@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "core/atlas/measure.h"
-#include "core/connectivity.h"
+#include "core/common/connectivity.h"
 #include "io/mesh_io.h"
 
 int main(int argc, char** argv) {

@@ -5,7 +5,7 @@ For every shared disk and holes mesh and face.off subdivided twice (face s2, 414
 installed command line (build/bin/straightest_param) runs with its defaults three times: quiet,
 beside a CPU hog (one busy process per core) and on one core (`taskset -c 0`), each writing OBJ and
 PLY (tests/cli/same_bytes.py does the runs and the comparison). A second table sets each stage's
-counted work (report `stage_work`, core/work.h) beside its measured seconds from the quiet run.
+counted work (report `stage_work`, core/common/work.h) beside its measured seconds from the quiet run.
 The atlas runs the same three ways on the scans bench's armadillo x16 without noise (1.36M faces,
 bench/scans.py; 8192 texture, float PLY as MeshLab stores it), unless --no-atlas.
 

@@ -25,12 +25,12 @@
 #include <string>
 #include <vector>
 
-#include "core/boundary.h"
-#include "core/metrics.h"
+#include "core/common/metrics.h"
+#include "core/paper/boundary.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
+#include "core/paper/weights.h"
 #include "core/parameterize.h"
-#include "core/patch.h"
-#include "core/solve.h"
-#include "core/weights.h"
 #include "io/mesh_io.h"
 #include "midpoint_subdivision.h"
 

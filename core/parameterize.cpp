@@ -9,16 +9,16 @@
 #include <optional>
 #include <string>
 
-#include "boundary.h"
-#include "free_boundary.h"
-#include "metrics.h"
-#include "patch.h"
-#include "progress.h"
-#include "solve.h"
-#include "storage.h"
-#include "stretch_newton.h"
-#include "weights.h"
-#include "work.h"
+#include "core/common/metrics.h"
+#include "core/common/progress.h"
+#include "core/common/storage.h"
+#include "core/common/work.h"
+#include "core/paper/boundary.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
+#include "core/paper/weights.h"
+#include "core/refine/free_boundary.h"
+#include "core/refine/stretch_newton.h"
 
 namespace sdp {
 namespace {

@@ -4,10 +4,10 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "error.h"
-#include "layout.h"
-#include "options.h"
-#include "report.h"
+#include "core/common/error.h"
+#include "core/common/layout.h"
+#include "core/common/options.h"
+#include "core/common/report.h"
 
 namespace sdp {
 

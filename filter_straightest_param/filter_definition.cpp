@@ -5,7 +5,7 @@
 #include <limits>
 #include <new>
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 namespace sdp::filter {
 

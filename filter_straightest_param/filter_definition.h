@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/atlas/atlas.h"
-#include "core/options.h"
-#include "core/report.h"
+#include "core/common/options.h"
+#include "core/common/report.h"
 
 namespace sdp::filter {
 

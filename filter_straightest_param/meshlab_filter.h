@@ -12,7 +12,7 @@
 #include <string>
 #include <type_traits>
 
-#include "core/error.h"
+#include "core/common/error.h"
 #include "filter_straightest_param/filter_definition.h"
 #include "io/checkerboard.h"
 #include "vcg_adapters/mesh_run.h"

@@ -15,8 +15,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/layout.h"
-#include "core/options.h"
+#include "core/common/layout.h"
+#include "core/common/options.h"
 
 namespace sdp::atlas {
 

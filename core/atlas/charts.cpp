@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "core/parallel.h"
+#include "core/common/parallel.h"
 
 namespace sdp::atlas {
 namespace {

@@ -13,8 +13,8 @@
 #include <functional>
 #include <vector>
 
-#include "core/connectivity.h"
-#include "core/layout.h"
+#include "core/common/connectivity.h"
+#include "core/common/layout.h"
 
 namespace sdp::atlas {
 

@@ -6,8 +6,8 @@
 #include <limits>
 #include <utility>
 
-#include "core/connectivity.h"
-#include "core/geometry.h"
+#include "core/common/connectivity.h"
+#include "core/common/geometry.h"
 #include "pack.h"
 
 namespace sdp::atlas {

@@ -8,11 +8,11 @@
 #include <limits>
 #include <numeric>
 
-#include "core/connectivity.h"
-#include "core/disjoint_sets.h"
-#include "core/geometry.h"
-#include "core/metrics.h"
-#include "core/parallel.h"
+#include "core/common/connectivity.h"
+#include "core/common/disjoint_sets.h"
+#include "core/common/geometry.h"
+#include "core/common/metrics.h"
+#include "core/common/parallel.h"
 #include "raster.h"
 
 namespace sdp::atlas {

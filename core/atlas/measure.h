@@ -16,7 +16,7 @@
 #include <functional>
 #include <vector>
 
-#include "core/layout.h"
+#include "core/common/layout.h"
 
 namespace sdp::atlas {
 

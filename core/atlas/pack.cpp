@@ -9,9 +9,9 @@
 #include <string>
 
 #include "convex_cut.h"
-#include "core/error.h"
-#include "core/geometry.h"
-#include "core/parallel.h"
+#include "core/common/error.h"
+#include "core/common/geometry.h"
+#include "core/common/parallel.h"
 #include "raster.h"
 
 namespace sdp::atlas {

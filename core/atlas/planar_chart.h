@@ -9,7 +9,7 @@
 #include <optional>
 #include <vector>
 
-#include "core/layout.h"
+#include "core/common/layout.h"
 
 namespace sdp::atlas {
 

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/parallel.h"
-#include "core/work.h"
+#include "core/common/parallel.h"
+#include "core/common/work.h"
 
 namespace sdp {
 namespace {

@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 
-#include "core/linear/multigrid.h"
+#include "multigrid.h"
 
 namespace sdp {
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "core/linear/krylov.h"
-#include "core/linear/ordering.h"
-#include "core/work.h"
+#include "core/common/work.h"
+#include "krylov.h"
+#include "ordering.h"
 
 namespace sdp {
 

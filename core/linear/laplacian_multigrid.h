@@ -12,7 +12,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
-#include "core/work.h"
+#include "core/common/work.h"
 #include "multigrid.h"
 
 namespace sdp {

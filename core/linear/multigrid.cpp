@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/parallel.h"
-#include "core/work.h"
+#include "core/common/parallel.h"
+#include "core/common/work.h"
 
 namespace sdp {
 namespace {

@@ -16,7 +16,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
-#include "../work.h"
+#include "core/common/work.h"
 
 namespace sdp {
 

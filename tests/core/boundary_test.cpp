@@ -2,9 +2,9 @@
 
 #include <random>
 
-#include "core/boundary.h"
-#include "core/patch.h"
-#include "core/weights.h"
+#include "core/paper/boundary.h"
+#include "core/paper/patch.h"
+#include "core/paper/weights.h"
 #include "test_meshes.h"
 
 namespace sdp {

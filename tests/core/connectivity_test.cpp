@@ -1,9 +1,9 @@
-// analyzeConnectivity (core/connectivity.h) reports what a mesh is instead of refusing it: disks,
-// closed models of any genus, many pieces, non-manifold edges and vertices, inconsistent
+// analyzeConnectivity (core/common/connectivity.h) reports what a mesh is instead of refusing it:
+// disks, closed models of any genus, many pieces, non-manifold edges and vertices, inconsistent
 // orientation. Counts from the meshes' README (../shared/meshes) and small meshes built here.
 #include <gtest/gtest.h>
 
-#include "core/connectivity.h"
+#include "core/common/connectivity.h"
 #include "io/mesh_io.h"
 #include "test_mesh_files.h"
 

@@ -1,4 +1,4 @@
-#include "core/free_boundary.h"
+#include "core/refine/free_boundary.h"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <random>
 #include <utility>
 
-#include "core/grid_newton.h"
 #include "core/parameterize.h"
-#include "core/stretch_newton.h"
-#include "core/stretch_terms.h"
+#include "core/refine/grid_newton.h"
+#include "core/refine/stretch_newton.h"
+#include "core/refine/stretch_terms.h"
 #include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <string>
 
-#include "core/boundary.h"
-#include "core/patch.h"
-#include "core/solve.h"
-#include "core/weights.h"
+#include "core/paper/boundary.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
+#include "core/paper/weights.h"
 #include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/free_boundary.h"
+#include "core/common/storage.h"
 #include "core/parameterize.h"
-#include "core/storage.h"
-#include "core/stretch_newton.h"
+#include "core/refine/free_boundary.h"
+#include "core/refine/stretch_newton.h"
 #include "test_meshes.h"
 
 namespace sdp {

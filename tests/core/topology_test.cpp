@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "core/paper/patch.h"
 #include "core/parameterize.h"
-#include "core/patch.h"
 #include "test_meshes.h"
 
 namespace sdp {

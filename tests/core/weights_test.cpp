@@ -3,8 +3,8 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "core/patch.h"
-#include "core/weights.h"
+#include "core/paper/patch.h"
+#include "core/paper/weights.h"
 #include "test_meshes.h"
 
 namespace sdp {

@@ -5,7 +5,7 @@
 #include <set>
 #include <string>
 
-#include "core/error.h"
+#include "core/common/error.h"
 #include "filter_straightest_param/filter_definition.h"
 
 namespace {

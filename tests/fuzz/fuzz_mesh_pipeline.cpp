@@ -15,7 +15,7 @@
 
 #include "core/atlas/atlas.h"
 #include "core/atlas/measure.h"
-#include "core/connectivity.h"
+#include "core/common/connectivity.h"
 #include "core/parameterize.h"
 #include "io/mesh_io.h"
 

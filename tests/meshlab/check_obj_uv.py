@@ -92,7 +92,7 @@ def count_charts(faces, uvs):
 
 def coherent_turns(faces):
     """Per face, whether to turn it over so faces joined across two-face edges agree, keeping in
-    each piece the winding most of its faces have (as the atlas does, core/connectivity.h)."""
+    each piece the winding most of its faces have (as the atlas does, core/common/connectivity.h)."""
     edges = {}
     for f, corners in enumerate(faces):
         n = len(corners)

@@ -1,6 +1,6 @@
 #include "boundary.h"
 
-#include "free_boundary.h"
+#include "core/refine/free_boundary.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -9,8 +9,8 @@
 #include <numeric>
 #include <queue>
 
-#include "geometry.h"
-#include "metrics.h"
+#include "core/common/geometry.h"
+#include "core/common/metrics.h"
 #include "straightest.h"
 #include "weights.h"
 

@@ -11,12 +11,12 @@
 #include <array>
 #include <vector>
 
-#include "metrics.h"
-#include "options.h"
-#include "patch.h"
-#include "progress.h"
+#include "core/common/metrics.h"
+#include "core/common/options.h"
+#include "core/common/progress.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
 #include "refine_budget.h"
-#include "solve.h"
 
 namespace sdp {
 

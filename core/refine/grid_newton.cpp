@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include "parallel.h"
+#include "core/common/parallel.h"
 
 namespace sdp {
 

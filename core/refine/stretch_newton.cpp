@@ -9,15 +9,15 @@
 #include <utility>
 
 #include "checked_descent.h"
+#include "core/common/geometry.h"
+#include "core/common/parallel.h"
+#include "core/common/work.h"
+#include "core/linear/block_multigrid.h"
+#include "core/linear/krylov.h"
+#include "core/linear/solve_path.h"
 #include "free_boundary.h"
-#include "geometry.h"
 #include "grid_newton.h"
-#include "linear/block_multigrid.h"
-#include "linear/krylov.h"
-#include "linear/solve_path.h"
-#include "parallel.h"
 #include "stretch_terms.h"
-#include "work.h"
 
 namespace sdp {
 

@@ -5,7 +5,7 @@
 #include <functional>
 #include <vector>
 
-#include "options.h"
+#include "core/common/options.h"
 #include "patch.h"
 #include "straightest.h"
 

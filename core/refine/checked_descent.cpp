@@ -4,7 +4,7 @@
 #include <new>
 #include <utility>
 
-#include "work.h"
+#include "core/common/work.h"
 
 namespace sdp {
 

@@ -21,11 +21,11 @@
 #include <array>
 #include <vector>
 
-#include "linear/solve_path.h"
-#include "patch.h"
-#include "solve.h"
+#include "core/common/work.h"
+#include "core/linear/solve_path.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
 #include "stretch_terms.h"
-#include "work.h"
 
 namespace sdp {
 

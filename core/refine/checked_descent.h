@@ -9,12 +9,12 @@
 #include <functional>
 #include <vector>
 
+#include "core/common/metrics.h"
+#include "core/common/progress.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
 #include "free_boundary.h"
-#include "metrics.h"
-#include "patch.h"
-#include "progress.h"
 #include "refine_budget.h"
-#include "solve.h"
 
 namespace sdp {
 

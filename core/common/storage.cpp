@@ -5,8 +5,8 @@
 #include <limits>
 #include <string>
 
+#include "core/refine/free_boundary.h"
 #include "error.h"
-#include "free_boundary.h"
 #include "geometry.h"
 #include "metrics.h"
 

@@ -10,7 +10,7 @@
 #include <chrono>
 #include <limits>
 
-#include "work.h"
+#include "core/common/work.h"
 
 namespace sdp {
 

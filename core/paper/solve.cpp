@@ -3,11 +3,11 @@
 #include <chrono>
 #include <string>
 
-#include "error.h"
-#include "linear/krylov.h"
-#include "linear/ordering.h"
-#include "parallel.h"
-#include "work.h"
+#include "core/common/error.h"
+#include "core/common/parallel.h"
+#include "core/common/work.h"
+#include "core/linear/krylov.h"
+#include "core/linear/ordering.h"
 
 namespace sdp {
 namespace {

@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "geometry.h"
+#include "core/common/geometry.h"
 
 namespace sdp {
 

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "boundary.h"
-#include "linear/multigrid.h"
-#include "linear/solve_path.h"
+#include "core/linear/multigrid.h"
+#include "core/linear/solve_path.h"
 #include "patch.h"
 
 namespace sdp {

@@ -1,7 +1,7 @@
 #include "weights.h"
 
-#include "geometry.h"
-#include "parallel.h"
+#include "core/common/geometry.h"
+#include "core/common/parallel.h"
 
 #include <cmath>
 

@@ -8,8 +8,8 @@
 #include <array>
 #include <vector>
 
-#include "patch.h"
-#include "solve.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
 
 namespace sdp {
 

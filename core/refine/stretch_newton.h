@@ -20,14 +20,14 @@
 
 #include <vector>
 
+#include "core/common/metrics.h"
+#include "core/common/options.h"
+#include "core/common/progress.h"
+#include "core/linear/solve_path.h"
+#include "core/paper/patch.h"
+#include "core/paper/solve.h"
 #include "grid_newton.h"
-#include "linear/solve_path.h"
-#include "metrics.h"
-#include "options.h"
-#include "patch.h"
-#include "progress.h"
 #include "refine_budget.h"
-#include "solve.h"
 
 namespace sdp {
 

@@ -1,6 +1,6 @@
 #include "options.h"
 
-#include "refine_budget.h"
+#include "core/refine/refine_budget.h"
 #include "work.h"
 
 namespace sdp {

@@ -5,9 +5,9 @@
 #include <limits>
 #include <utility>
 
+#include "core/common/geometry.h"
+#include "core/common/parallel.h"
 #include "free_boundary.h"
-#include "geometry.h"
-#include "parallel.h"
 
 namespace sdp {
 

@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "options.h"
+#include "core/common/options.h"
 #include "patch.h"
 
 namespace sdp {

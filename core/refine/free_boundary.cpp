@@ -1,10 +1,10 @@
 #include "free_boundary.h"
 
 #include "checked_descent.h"
-#include "geometry.h"
-#include "linear/laplacian_multigrid.h"
-#include "linear/solve_path.h"
-#include "work.h"
+#include "core/common/geometry.h"
+#include "core/common/work.h"
+#include "core/linear/laplacian_multigrid.h"
+#include "core/linear/solve_path.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "error.h"
+#include "core/common/error.h"
 
 namespace sdp {
 namespace {
