@@ -27,7 +27,7 @@
 
 #include "core/common/metrics.h"
 #include "core/paper/boundary.h"
-#include "core/paper/patch.h"
+#include "core/paper/patch_topology.h"
 #include "core/paper/solve.h"
 #include "core/paper/weights.h"
 #include "core/parameterize.h"

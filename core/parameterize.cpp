@@ -14,7 +14,7 @@
 #include "core/common/storage.h"
 #include "core/common/work.h"
 #include "core/paper/boundary.h"
-#include "core/paper/patch.h"
+#include "core/paper/patch_topology.h"
 #include "core/paper/solve.h"
 #include "core/paper/weights.h"
 #include "core/refine/free_boundary.h"

@@ -5,8 +5,8 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "core/paper/patch.h"
 #include "layout.h"
+#include "patch.h"
 
 namespace sdp {
 

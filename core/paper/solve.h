@@ -17,13 +17,11 @@
 #include <vector>
 
 #include "boundary.h"
+#include "core/common/patch.h"
 #include "core/linear/multigrid.h"
 #include "core/linear/solve_path.h"
-#include "patch.h"
 
 namespace sdp {
-
-using LocalUVs = std::vector<Eigen::Vector2d>;  // one per patch vertex
 
 struct SolverSettings {
   SolverMethod method = SolverMethod::Automatic;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/common/options.h"
-#include "patch.h"
+#include "core/common/patch.h"
 #include "straightest.h"
 
 namespace sdp {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "core/common/metrics.h"
+#include "core/common/patch.h"
 #include "core/common/progress.h"
-#include "core/paper/patch.h"
 #include "core/paper/solve.h"
 #include "free_boundary.h"
 #include "refine_budget.h"

@@ -13,8 +13,8 @@
 
 #include "core/common/metrics.h"
 #include "core/common/options.h"
+#include "core/common/patch.h"
 #include "core/common/progress.h"
-#include "core/paper/patch.h"
 #include "core/paper/solve.h"
 #include "refine_budget.h"
 

@@ -21,9 +21,9 @@
 #include <array>
 #include <vector>
 
+#include "core/common/patch.h"
 #include "core/common/work.h"
 #include "core/linear/solve_path.h"
-#include "core/paper/patch.h"
 #include "core/paper/solve.h"
 #include "stretch_terms.h"
 

@@ -22,9 +22,9 @@
 
 #include "core/common/metrics.h"
 #include "core/common/options.h"
+#include "core/common/patch.h"
 #include "core/common/progress.h"
 #include "core/linear/solve_path.h"
-#include "core/paper/patch.h"
 #include "core/paper/solve.h"
 #include "grid_newton.h"
 #include "refine_budget.h"

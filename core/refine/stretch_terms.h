@@ -8,7 +8,7 @@
 #include <array>
 #include <vector>
 
-#include "core/paper/patch.h"
+#include "core/common/patch.h"
 #include "core/paper/solve.h"
 
 namespace sdp {

@@ -3,7 +3,7 @@
 #include <random>
 
 #include "core/paper/boundary.h"
-#include "core/paper/patch.h"
+#include "core/paper/patch_topology.h"
 #include "core/paper/weights.h"
 #include "test_meshes.h"
 

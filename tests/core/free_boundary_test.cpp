@@ -8,6 +8,7 @@
 #include <random>
 #include <utility>
 
+#include "core/paper/patch_topology.h"
 #include "core/parameterize.h"
 #include "core/refine/grid_newton.h"
 #include "core/refine/stretch_newton.h"

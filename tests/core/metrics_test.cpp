@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "core/common/metrics.h"
-#include "core/paper/patch.h"
+#include "core/paper/patch_topology.h"
 #include "test_meshes.h"
 
 namespace sdp {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/paper/boundary.h"
-#include "core/paper/patch.h"
+#include "core/paper/patch_topology.h"
 #include "core/paper/solve.h"
 #include "core/paper/weights.h"
 #include "io/mesh_io.h"

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "core/paper/patch.h"
+#include "core/paper/patch_topology.h"
 #include "core/parameterize.h"
 #include "test_meshes.h"
 

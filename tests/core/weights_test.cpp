@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "core/paper/patch.h"
+#include "core/paper/patch_topology.h"
 #include "core/paper/weights.h"
 #include "test_meshes.h"
 

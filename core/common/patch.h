@@ -1,7 +1,6 @@
-// The patch: referenced vertices, triangles, and the derived topology every later stage needs
-// (ordered 1-rings, the boundary loop, face adjacency for plane walks). Building it is the
-// topology check of docs/method.md §1: one component, edge- and vertex-manifold, one boundary loop,
-// χ = 1.
+// The patch every step speaks: referenced vertices, triangles, and the derived topology the
+// later steps need (ordered 1-rings, the boundary loop, face adjacency for plane walks, virtual
+// hole fills). The paper's topology check builds it (core/paper/patch_topology.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -49,17 +48,6 @@ struct Patch {
   int interiorCount() const { return vertexCount() - static_cast<int>(boundary_loop.size()); }
 };
 
-struct PatchOptions {
-  bool fill_holes = true;  // false: several boundary loops are an error
-  int outer_vertex = -1;   // input index of a vertex on the outer loop; -1: the longest loop
-};
-
-// Builds the patch and checks it is a disk (after filling holes). Throws ParameterizationError
-// naming the first problem found (index out of range, non-finite coordinate, repeated vertex in
-// a face, duplicate face, non-manifold edge or vertex, inconsistent orientation, closed mesh,
-// several components, several boundary loops when not filling, wrong Euler characteristic).
-Patch buildPatch(const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& V,
-                 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& F,
-                 const PatchOptions& options = {});
+using LocalUVs = std::vector<Eigen::Vector2d>;  // one per patch vertex
 
 }  // namespace sdp

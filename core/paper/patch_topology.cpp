@@ -1,4 +1,4 @@
-#include "patch.h"
+#include "patch_topology.h"
 
 #include <algorithm>
 #include <cmath>
