@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/common/border.h"
 #include "core/common/connectivity.h"
 #include "core/common/geometry.h"
 #include "core/common/metrics.h"
-#include "core/refine/free_boundary.h"
 
 namespace sdp::atlas {
 

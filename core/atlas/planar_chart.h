@@ -20,7 +20,7 @@ constexpr double kPlanarChartDegrees = 2.0;
 // The projected texture coordinates, one per vertex of V (counter-clockwise where the faces are),
 // when every face is within kPlanarChartDegrees of the mean normal and the projection is
 // one-to-one: no face flipped or degenerate, and no two border edges crossing or coming closer
-// than the refinement's clearance (free_boundary.h). Else nothing (the patch pipeline then
+// than the refinement's clearance (core/common/border.h). Else nothing (the patch pipeline then
 // flattens the faces). F indexes V; every vertex of V is used.
 std::optional<std::vector<Eigen::Vector2d>> projectIfPlanar(const Positions& V, const Triangles& F);
 

@@ -5,7 +5,7 @@
 #include <limits>
 #include <string>
 
-#include "core/refine/free_boundary.h"
+#include "border.h"
 #include "error.h"
 #include "geometry.h"
 #include "metrics.h"

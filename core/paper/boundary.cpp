@@ -1,6 +1,6 @@
 #include "boundary.h"
 
-#include "core/refine/free_boundary.h"
+#include "core/common/border.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
