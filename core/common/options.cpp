@@ -1,14 +1,11 @@
 #include "options.h"
 
-#include "core/refine/refine_budget.h"
 #include "work.h"
 
 namespace sdp {
 namespace {
 
-// In enum order (refine_budget.h, options.h).
-const char* const kRefineStopNames[] = {"not run", "iterations", "converged", "work budget",
-                                        "time limit"};
+// In enum order (options.h).
 const char* const kStorageNames[] = {"double", "float", "float, 6 decimals"};
 
 }  // namespace
@@ -21,9 +18,6 @@ Options productDefaults() {
   return options;
 }
 
-const char* refineStopName(RefineStop stop) {
-  return kRefineStopNames[static_cast<int>(stop)];
-}
 const char* uvStorageName(UVStorage storage) {
   return kStorageNames[static_cast<int>(storage)];
 }
