@@ -1144,6 +1144,26 @@ const std::vector<AtlasSummaryField>& atlasSummaryFields() {
   return fields;
 }
 
+namespace {
+
+// The report's `chart_table`: one JSON object per chart.
+std::string chartTableJson(const AtlasReport& r) {
+  std::string table = "[";
+  for (size_t c = 0; c < r.chart_table.size(); ++c) {
+    const ChartReport& t = r.chart_table[c];
+    table += std::string(c ? ",\n    " : "\n    ") +
+             json::jsonObject({{"faces", json::jsonInt(t.faces)},
+                               {"area", json::jsonNumber(t.area)},
+                               {"l2_stretch", json::jsonNumber(t.l2_stretch)},
+                               {"linf_stretch", json::jsonNumber(t.linf_stretch)},
+                               {"boundary_used", json::jsonString(t.boundary_used)},
+                               {"fallbacks", json::jsonInt(t.fallbacks)}});
+  }
+  return table + (r.chart_table.empty() ? "]" : "\n  ]");
+}
+
+}  // namespace
+
 const std::vector<AtlasDetailField>& atlasDetailFields() {
   using namespace json;
   using R = const AtlasReport&;
@@ -1212,20 +1232,7 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
       {"chart_table",
        "per chart: `faces`, 3D `area`, `l2_stretch`, `linf_stretch`, `boundary_used` (`part of "
        "...` when the chart kept its part of a larger chart's map), `fallbacks`",
-       [](R r) {
-         std::string table = "[";
-         for (size_t c = 0; c < r.chart_table.size(); ++c) {
-           const ChartReport& t = r.chart_table[c];
-           table += std::string(c ? ",\n    " : "\n    ") +
-                    jsonObject({{"faces", jsonInt(t.faces)},
-                                {"area", jsonNumber(t.area)},
-                                {"l2_stretch", jsonNumber(t.l2_stretch)},
-                                {"linf_stretch", jsonNumber(t.linf_stretch)},
-                                {"boundary_used", jsonString(t.boundary_used)},
-                                {"fallbacks", jsonInt(t.fallbacks)}});
-         }
-         return table + (r.chart_table.empty() ? "]" : "\n  ]");
-       }},
+       chartTableJson},
   };
   return fields;
 }

@@ -75,28 +75,36 @@ std::vector<int> chartsOfGroups(const Triangles& F, const Layout& layout, const 
   return chart;
 }
 
-}  // namespace
+// Owners are chart numbers (>= 0), kEmpty or kShared; kShared is the least, kEmpty the greatest
+// as the window minimum sees it (it is skipped).
+constexpr int kEmpty = std::numeric_limits<int>::max(), kShared = -1;
 
-std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* count) {
-  return chartsOfGroups(F, layout, edgeGroups(F), count);
-}
+// Bands of rows, each rastered by one thread into buffers of its own, grown by `reach` rows on
+// either side (faces reaching those rows are rastered by both bands), so the texture is never
+// held whole; the counts are sums of integers, the same in any order.
+constexpr int kBandRows = 64;
 
-PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart, int size,
-                            int gutter, const std::function<void(double)>& progress) {
-  PixelMeasures m;
-  if (size <= 0) return m;
-  // Owners are chart numbers (>= 0), kEmpty or kShared; kShared is the least, kEmpty the greatest
-  // as the window minimum sees it (it is skipped).
-  constexpr int kEmpty = std::numeric_limits<int>::max(), kShared = -1;
-  const int reach = std::max(0, gutter - 1);
-  // Bands of rows, each rastered by one thread into buffers of its own, grown by `reach` rows on
-  // either side (faces reaching those rows are rastered by both bands), so the texture is never
-  // held whole; the counts are sums of integers, the same in any order.
-  constexpr int kBandRows = 64;
+// One band's buffers: the owner of each pixel of its grown rows, their window minimum and
+// maximum along rows, and one row's worth of the rest.
+struct BandScratch {
+  std::vector<int> owner, low, high, seen, least, greatest;
+};
+
+// The faces of each band of rows they may reach (grown by `reach`), and their corners in pixels.
+struct FacesByBand {
+  std::vector<std::array<Eigen::Vector2d, 3>> corners;
+  std::vector<int> band_begin, band_face;
+};
+
+FacesByBand facesByBand(const Layout& layout, int size, int reach) {
   const int bands = (size + kBandRows - 1) / kBandRows;
   const int faces = layout.faceCount();
-  std::vector<std::array<Eigen::Vector2d, 3>> corners(faces);
-  std::vector<int> band_begin(bands + 1, 0), first_band(faces), last_band(faces);
+  FacesByBand out;
+  auto& corners = out.corners;
+  auto& band_begin = out.band_begin;
+  corners.resize(faces);
+  band_begin.assign(bands + 1, 0);
+  std::vector<int> first_band(faces), last_band(faces);
   for (int f = 0; f < faces; ++f) {
     double low = std::numeric_limits<double>::infinity(), high = -low;
     for (int k = 0; k < 3; ++k) {
@@ -116,17 +124,95 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
     for (int b = first_band[f]; b <= last_band[f]; ++b) ++band_begin[b + 1];
   }
   for (int b = 0; b < bands; ++b) band_begin[b + 1] += band_begin[b];
-  std::vector<int> band_face(band_begin[bands]);
+  out.band_face.resize(band_begin[bands]);
   {
     std::vector<int> fill(band_begin.begin(), band_begin.end() - 1);
     for (int f = 0; f < faces; ++f)
-      for (int b = first_band[f]; b <= last_band[f]; ++b) band_face[fill[b]++] = f;
+      for (int b = first_band[f]; b <= last_band[f]; ++b) out.band_face[fill[b]++] = f;
   }
+  return out;
+}
+
+// The covered pixels of rows [row_begin, row_end) whose gutter is broken, from the owners of the
+// rows [grown_begin, grown_end) around them (scratch.owner); the other buffers are scratch.
+long long gutterBreaks(BandScratch& scratch, int size, int reach, int row_begin, int row_end,
+                       int grown_begin, int grown_end) {
+  const std::vector<int>& owner = scratch.owner;
+  std::vector<int>&low = scratch.low, &high = scratch.high, &seen = scratch.seen;
+  std::vector<int>&least = scratch.least, &greatest = scratch.greatest;
+  // A covered pixel breaks the gutter when its window of (2 reach + 1)^2 pixels holds another
+  // owner or a shared pixel: when the window's least and greatest owners (empty ones
+  // skipped: the greatest reads them as kNone) differ. Both are taken along rows, then along
+  // columns, without branches (the passes visit every pixel of the texture).
+  constexpr int kNone = kShared - 1;
+  const int grown_rows = grown_end - grown_begin;
+  for (int y = 0; y < grown_rows; ++y) {
+    const int* row = &owner[static_cast<size_t>(y) * size];
+    int* row_low = &low[static_cast<size_t>(y) * size];
+    int* row_high = &high[static_cast<size_t>(y) * size];
+    for (int x = 0; x < size; ++x) seen[x] = row[x] == kEmpty ? kNone : row[x];
+    std::copy(row, row + size, row_low);
+    std::copy(seen.begin(), seen.end(), row_high);
+    // Shift by shift, each loop plain enough to run in vector registers.
+    for (int d = 1; d <= reach && d < size; ++d) {
+      for (int x = 0; x < size - d; ++x) {
+        row_low[x] = std::min(row_low[x], row[x + d]);
+        row_high[x] = std::max(row_high[x], seen[x + d]);
+      }
+      for (int x = d; x < size; ++x) {
+        row_low[x] = std::min(row_low[x], row[x - d]);
+        row_high[x] = std::max(row_high[x], seen[x - d]);
+      }
+    }
+  }
+  long long broken = 0;
+  for (int y = row_begin; y < row_end; ++y) {
+    const int at = y - grown_begin;
+    const int* row = &owner[static_cast<size_t>(at) * size];
+    const int from = std::max(0, at - reach), to = std::min(grown_rows - 1, at + reach);
+    std::copy(&low[static_cast<size_t>(from) * size], &low[static_cast<size_t>(from) * size] + size,
+              least.begin());
+    std::copy(&high[static_cast<size_t>(from) * size],
+              &high[static_cast<size_t>(from) * size] + size, greatest.begin());
+    for (int r = from + 1; r <= to; ++r) {
+      const int* r_low = &low[static_cast<size_t>(r) * size];
+      const int* r_high = &high[static_cast<size_t>(r) * size];
+      for (int x = 0; x < size; ++x) {
+        least[x] = std::min(least[x], r_low[x]);
+        greatest[x] = std::max(greatest[x], r_high[x]);
+      }
+    }
+    int row_broken = 0;
+    for (int x = 0; x < size; ++x)
+      row_broken += row[x] != kEmpty && (least[x] != greatest[x] || least[x] == kShared);
+    broken += row_broken;
+  }
+  return broken;
+}
+
+}  // namespace
+
+std::vector<int> chartsByUVs(const Triangles& F, const Layout& layout, int* count) {
+  return chartsOfGroups(F, layout, edgeGroups(F), count);
+}
+
+PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart, int size,
+                            int gutter, const std::function<void(double)>& progress) {
+  PixelMeasures m;
+  if (size <= 0) return m;
+  const int reach = std::max(0, gutter - 1);
+  const int bands = (size + kBandRows - 1) / kBandRows;
+  const FacesByBand banded = facesByBand(layout, size, reach);
+  const auto& corners = banded.corners;
+  const auto& band_begin = banded.band_begin;
+  const auto& band_face = banded.band_face;
   std::vector<long long> overlapping(bands, 0), violations(bands, 0);
   parallelFor(bands, 1, [&](int begin, int end, int worker) {
     const size_t rows = kBandRows + 2 * reach;
-    std::vector<int> owner(rows * size), low(rows * size), high(rows * size);
-    std::vector<int> seen(size), least(size), greatest(size);
+    BandScratch s{std::vector<int>(rows * size), std::vector<int>(rows * size),
+                  std::vector<int>(rows * size), std::vector<int>(size),
+                  std::vector<int>(size),        std::vector<int>(size)};
+    std::vector<int>& owner = s.owner;
     std::vector<unsigned char> covers(static_cast<size_t>(kBandRows) * size);
     for (int b = begin; b < end; ++b) {
       const int row_begin = b * kBandRows, row_end = std::min(size, row_begin + kBandRows);
@@ -148,54 +234,7 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
       for (size_t at = 0; at < static_cast<size_t>(row_end - row_begin) * size; ++at)
         overlapping[b] += covers[at] >= 2;
       if (reach == 0) continue;  // a gutter of one texel: neighbours may belong to any chart
-      // A covered pixel breaks the gutter when its window of (2 reach + 1)^2 pixels holds another
-      // owner or a shared pixel: when the window's least and greatest owners (empty ones
-      // skipped: the greatest reads them as kNone) differ. Both are taken along rows, then along
-      // columns, without branches (the passes visit every pixel of the texture).
-      constexpr int kNone = kShared - 1;
-      const int grown_rows = grown_end - grown_begin;
-      for (int y = 0; y < grown_rows; ++y) {
-        const int* row = &owner[static_cast<size_t>(y) * size];
-        int* row_low = &low[static_cast<size_t>(y) * size];
-        int* row_high = &high[static_cast<size_t>(y) * size];
-        for (int x = 0; x < size; ++x) seen[x] = row[x] == kEmpty ? kNone : row[x];
-        std::copy(row, row + size, row_low);
-        std::copy(seen.begin(), seen.end(), row_high);
-        // Shift by shift, each loop plain enough to run in vector registers.
-        for (int d = 1; d <= reach && d < size; ++d) {
-          for (int x = 0; x < size - d; ++x) {
-            row_low[x] = std::min(row_low[x], row[x + d]);
-            row_high[x] = std::max(row_high[x], seen[x + d]);
-          }
-          for (int x = d; x < size; ++x) {
-            row_low[x] = std::min(row_low[x], row[x - d]);
-            row_high[x] = std::max(row_high[x], seen[x - d]);
-          }
-        }
-      }
-      long long broken = 0;
-      for (int y = row_begin; y < row_end; ++y) {
-        const int at = y - grown_begin;
-        const int* row = &owner[static_cast<size_t>(at) * size];
-        const int from = std::max(0, at - reach), to = std::min(grown_rows - 1, at + reach);
-        std::copy(&low[static_cast<size_t>(from) * size],
-                  &low[static_cast<size_t>(from) * size] + size, least.begin());
-        std::copy(&high[static_cast<size_t>(from) * size],
-                  &high[static_cast<size_t>(from) * size] + size, greatest.begin());
-        for (int r = from + 1; r <= to; ++r) {
-          const int* r_low = &low[static_cast<size_t>(r) * size];
-          const int* r_high = &high[static_cast<size_t>(r) * size];
-          for (int x = 0; x < size; ++x) {
-            least[x] = std::min(least[x], r_low[x]);
-            greatest[x] = std::max(greatest[x], r_high[x]);
-          }
-        }
-        int row_broken = 0;
-        for (int x = 0; x < size; ++x)
-          row_broken += row[x] != kEmpty && (least[x] != greatest[x] || least[x] == kShared);
-        broken += row_broken;
-      }
-      violations[b] = broken;
+      violations[b] = gutterBreaks(s, size, reach, row_begin, row_end, grown_begin, grown_end);
       if (worker == 0 && progress) progress(static_cast<double>(b + 1 - begin) / (end - begin));
     }
   });

@@ -359,6 +359,96 @@ double neededLength(const Eigen::Vector2d& extent) {
 // work on one chart whatever its turns cost.
 constexpr int kSlicesPerTurn = 2;
 
+struct Spot {
+  int top = INT_MAX, y = 0, x = 0, turn = 0;
+  bool operator<(const Spot& o) const {
+    return top != o.top ? top < o.top : y != o.y ? y < o.y : x < o.x;
+  }
+};
+
+// The lowest free spot for a chart whose points, framed and scaled, are `p` (see packAt), and
+// in `turned` its footprint at each quarter turn.
+Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const std::vector<int>& loop,
+                const std::vector<Eigen::Vector2d>& p, const PackOptions& options, int reach,
+                Footprint (&turned)[4]) {
+  const int size = options.texture_size;
+  // Each quarter turn and slice searched on its own (so in parallel), each keeping its lowest
+  // spot; a spot is skipped only when it cannot beat the lowest its slice has found, so the
+  // lowest of all is the same whatever the order, on any number of cores.
+  Spot spots[4][kSlicesPerTurn];
+  // Per turn, the lowest top either of its slices has found: a spot above it cannot be the
+  // turn's lowest, so both slices skip it (the turn's lowest is the same in any order).
+  std::atomic<int> turn_top[4];
+  for (std::atomic<int>& top : turn_top) top = INT_MAX;
+  auto tryAt = [&](const Footprint& fp, int turn, int x, Spot& local) {
+    const int top = std::min(local.top, turn_top[turn].load(std::memory_order_relaxed));
+    const int y = occupancy.lowestFree(fp, x, top == INT_MAX ? INT_MAX : top - fp.height + 1);
+    if (y == INT_MAX) return;
+    const Spot spot{y + fp.height, y, x, turn};
+    if (spot < local) local = spot;
+    for (int seen = turn_top[turn].load();
+         spot.top < seen && !turn_top[turn].compare_exchange_weak(seen, spot.top);)
+      ;
+  };
+  auto stride = [&](const Footprint& fp) {
+    return std::max({1, fp.width / 8, size / 256});  // at most 256 columns first
+  };
+  auto build = [&](int turn) {
+    std::vector<Eigen::Vector2d> q = p;
+    // A quarter turn (x, y) -> (-y, x) is exact in floating point.
+    for (int t = 0; t < turn; ++t)
+      for (Eigen::Vector2d& v : q) v = Eigen::Vector2d(-v.y(), v.x());
+    turned[turn] = footprint(q, chart.triangles, loop, options.margin, reach, size);
+  };
+  std::once_flag built[4];
+  auto scanSlice = [&](int task) {
+    const int turn = task / kSlicesPerTurn, slice = task % kSlicesPerTurn;
+    std::call_once(built[turn], build, turn);
+    const Footprint& fp = turned[turn];
+    if (fp.width > size || fp.height > size) return;
+    const int step = stride(fp), columns = (size - fp.width) / step + 1;
+    // Lowest floor under the chart's middle first: a low spot found early lets most of the
+    // others end at their first test. The order changes only how soon.
+    std::vector<std::pair<int, int>> tries;
+    for (int k = columns * slice / kSlicesPerTurn; k < columns * (slice + 1) / kSlicesPerTurn; ++k)
+      tries.emplace_back(occupancy.floor(k * step + fp.width / 2), k);
+    std::sort(tries.begin(), tries.end());
+    for (const auto& [floor, k] : tries) tryAt(fp, turn, k * step, spots[turn][slice]);
+  };
+  // Around each turn's lowest spot in halving steps.
+  auto refine = [&](int turn, Spot& local) {
+    const Footprint& fp = turned[turn];
+    if (fp.width > size || fp.height > size) return;
+    const int last = size - fp.width;
+    for (int step = stride(fp) / 2; step >= 1; step /= 2) {
+      const int around = local.x;
+      if (around - step >= 0) tryAt(fp, turn, around - step, local);
+      if (around + step <= last) tryAt(fp, turn, around + step, local);
+    }
+  };
+  Spot lowest[4];
+  auto searchTurn = [&](int turn) {
+    for (int slice = 0; slice < kSlicesPerTurn; ++slice)
+      if (spots[turn][slice] < lowest[turn]) lowest[turn] = spots[turn][slice];
+    refine(turn, lowest[turn]);
+  };
+  // Threads only pay for themselves on larger charts. A turn's footprint is built by the
+  // first of its slices to start.
+  if (p.size() >= kFewestPointsForParallelSearch)
+    parallelForAlongside(
+        4 * kSlicesPerTurn, 1, [] {},
+        [&](int begin, int end, int) {
+          for (int task = begin; task < end; ++task) scanSlice(task);
+        });
+  else
+    for (int task = 0; task < 4 * kSlicesPerTurn; ++task) scanSlice(task);
+  for (int turn = 0; turn < 4; ++turn) searchTurn(turn);
+  Spot best;
+  for (int turn = 0; turn < 4; ++turn)
+    if (lowest[turn] < best) best = lowest[turn];
+  return best;
+}
+
 // Packs every chart at `scale` into a strip as wide as the texture, each at a low free spot
 // (lowest top, then lowest, then leftmost, of those searched over four quarter turns: every
 // stride-th column, then a halving search around the best); returns the strip's used height,
@@ -370,12 +460,6 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
   const int size = options.texture_size;
   const int reach = std::max(options.gutter - 1, 0);
   Occupancy occupancy(size);
-  struct Spot {
-    int top = INT_MAX, y = 0, x = 0, turn = 0;
-    bool operator<(const Spot& o) const {
-      return top != o.top ? top < o.top : y != o.y ? y < o.y : x < o.x;
-    }
-  };
   const int n = static_cast<int>(order.size());
   for (int placed = 0; placed < n; ++placed) {
     const int c = order[placed];
@@ -388,82 +472,8 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
     if (diagonalFits(extent[c], scale, size)) frame = rotationBy(kPi / 4) * box[c];
     std::vector<Eigen::Vector2d> p(charts[c].uv.size());
     for (size_t i = 0; i < p.size(); ++i) p[i] = frame * charts[c].uv[i] * scale;
-    // Each quarter turn and slice searched on its own (so in parallel), each keeping its lowest
-    // spot; a spot is skipped only when it cannot beat the lowest its slice has found, so the
-    // lowest of all is the same whatever the order, on any number of cores.
     Footprint turned[4];
-    Spot spots[4][kSlicesPerTurn];
-    // Per turn, the lowest top either of its slices has found: a spot above it cannot be the
-    // turn's lowest, so both slices skip it (the turn's lowest is the same in any order).
-    std::atomic<int> turn_top[4];
-    for (std::atomic<int>& top : turn_top) top = INT_MAX;
-    auto tryAt = [&](const Footprint& fp, int turn, int x, Spot& local) {
-      const int top = std::min(local.top, turn_top[turn].load(std::memory_order_relaxed));
-      const int y = occupancy.lowestFree(fp, x, top == INT_MAX ? INT_MAX : top - fp.height + 1);
-      if (y == INT_MAX) return;
-      const Spot spot{y + fp.height, y, x, turn};
-      if (spot < local) local = spot;
-      for (int seen = turn_top[turn].load();
-           spot.top < seen && !turn_top[turn].compare_exchange_weak(seen, spot.top);)
-        ;
-    };
-    auto stride = [&](const Footprint& fp) {
-      return std::max({1, fp.width / 8, size / 256});  // at most 256 columns first
-    };
-    auto build = [&](int turn) {
-      std::vector<Eigen::Vector2d> q = p;
-      // A quarter turn (x, y) -> (-y, x) is exact in floating point.
-      for (int t = 0; t < turn; ++t)
-        for (Eigen::Vector2d& v : q) v = Eigen::Vector2d(-v.y(), v.x());
-      turned[turn] = footprint(q, charts[c].triangles, loops[c], options.margin, reach, size);
-    };
-    std::once_flag built[4];
-    auto scanSlice = [&](int task) {
-      const int turn = task / kSlicesPerTurn, slice = task % kSlicesPerTurn;
-      std::call_once(built[turn], build, turn);
-      const Footprint& fp = turned[turn];
-      if (fp.width > size || fp.height > size) return;
-      const int step = stride(fp), columns = (size - fp.width) / step + 1;
-      // Lowest floor under the chart's middle first: a low spot found early lets most of the
-      // others end at their first test. The order changes only how soon.
-      std::vector<std::pair<int, int>> tries;
-      for (int k = columns * slice / kSlicesPerTurn; k < columns * (slice + 1) / kSlicesPerTurn;
-           ++k)
-        tries.emplace_back(occupancy.floor(k * step + fp.width / 2), k);
-      std::sort(tries.begin(), tries.end());
-      for (const auto& [floor, k] : tries) tryAt(fp, turn, k * step, spots[turn][slice]);
-    };
-    // Around each turn's lowest spot in halving steps.
-    auto refine = [&](int turn, Spot& local) {
-      const Footprint& fp = turned[turn];
-      if (fp.width > size || fp.height > size) return;
-      const int last = size - fp.width;
-      for (int step = stride(fp) / 2; step >= 1; step /= 2) {
-        const int around = local.x;
-        if (around - step >= 0) tryAt(fp, turn, around - step, local);
-        if (around + step <= last) tryAt(fp, turn, around + step, local);
-      }
-    };
-    Spot lowest[4];
-    auto searchTurn = [&](int turn) {
-      for (int slice = 0; slice < kSlicesPerTurn; ++slice)
-        if (spots[turn][slice] < lowest[turn]) lowest[turn] = spots[turn][slice];
-      refine(turn, lowest[turn]);
-    };
-    // Threads only pay for themselves on larger charts. A turn's footprint is built by the
-    // first of its slices to start.
-    if (p.size() >= kFewestPointsForParallelSearch)
-      parallelForAlongside(
-          4 * kSlicesPerTurn, 1, [] {},
-          [&](int begin, int end, int) {
-            for (int task = begin; task < end; ++task) scanSlice(task);
-          });
-    else
-      for (int task = 0; task < 4 * kSlicesPerTurn; ++task) scanSlice(task);
-    for (int turn = 0; turn < 4; ++turn) searchTurn(turn);
-    Spot best;
-    for (int turn = 0; turn < 4; ++turn)
-      if (lowest[turn] < best) best = lowest[turn];
+    const Spot best = lowestSpot(occupancy, charts[c], loops[c], p, options, reach, turned);
     const Footprint& chosen = turned[best.turn];
     if (best.top == INT_MAX) return INT_MAX;
     occupancy.occupy(chosen, best.x, best.y);

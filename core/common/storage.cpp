@@ -217,27 +217,13 @@ void fitUnitSquare(const UvMesh& mesh, LocalUVs& uv) {
   for (auto& p : uv) p = (p - centre) / extent + Eigen::Vector2d::Constant(0.5);
 }
 
-}  // namespace
-
-StorageCounts store(Layout& layout, const StoragePolicy& policy,
-                    const std::function<void()>& step) {
-  StorageCounts counts;
-  const UvMesh mesh(layout);
-  if (step) step();
-  LocalUVs uv(layout.uv.rows());
-  for (size_t r = 0; r < uv.size(); ++r) uv[r] = layout.uv.row(r).transpose();
-  if (policy.fit_unit_square) fitUnitSquare(mesh, uv);
-  const int faces = layout.faceCount();
-  StoredMap map(mesh, uv, policy.precision);
-  std::vector<int> bad;
-  for (int f = 0; f < faces; ++f)
-    if (!map.valid(f)) bad.push_back(f);
-  counts.degenerate_faces = static_cast<int>(bad.size());
-  if (step) step();
-
+// Moves the corners of the faces that storage leaves flipped or degenerate (`bad`, replaced by
+// those still so) until none are or the sweeps run out; marks the moved rows.
+void repairDegenerateFaces(const UvMesh& mesh, StoredMap& map, std::vector<int>& bad,
+                           std::vector<char>& moved, StorageCounts& counts) {
   // Active rows: the corners of the faces still degenerate, grown by one ring after each sweep
   // that fixed none of them (the tiny faces sit in a cluster that needs room around it).
-  std::vector<char> moved(uv.size(), 0), active(uv.size(), 0);
+  std::vector<char> active(moved.size(), 0);
   int rings = 0;
   constexpr int kMaxSweeps = 200, kMaxRings = 12;
   while (!bad.empty() && counts.rounds < kMaxSweeps) {
@@ -275,27 +261,50 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy,
     if (still.size() >= bad.size()) rings = std::min(rings + 1, kMaxRings);
     bad.swap(still);
   }
+}
+
+// Whether the border is simple as stored, after moving the vertices of edges that meet.
+bool separateBorder(const UvMesh& mesh, StoredMap& map, LocalUVs& uv, std::vector<char>& moved) {
+  // Rounding can also make a border touch itself (two copies of a vertex split at a pinch,
+  // a notch a hair's breadth wide): the vertices of the edges that meet move into their own
+  // faces, by a 64th of the way to their neighbours' centroid and twice as far each sweep
+  // they still meet (on the scans bench's 13.6M-face scan at 8192² in 6-decimal storage a
+  // few vertices did, after minutes of work).
+  constexpr int kSeparationSweeps = 10;
+  for (int sweep = 0; sweep < kSeparationSweeps; ++sweep) {
+    const std::vector<int> rows = verticesOfMeetingEdges(mesh.border, uv);
+    if (rows.empty()) return true;  // the same test as edgesAreSimple's: not run twice
+    const double fraction = std::ldexp(1.0, std::min(sweep, 6) - 6);
+    for (int r : rows)
+      if (map.separate(r, fraction)) moved[r] = 1;
+  }
+  return false;
+}
+
+}  // namespace
+
+StorageCounts store(Layout& layout, const StoragePolicy& policy,
+                    const std::function<void()>& step) {
+  StorageCounts counts;
+  const UvMesh mesh(layout);
+  if (step) step();
+  LocalUVs uv(layout.uv.rows());
+  for (size_t r = 0; r < uv.size(); ++r) uv[r] = layout.uv.row(r).transpose();
+  if (policy.fit_unit_square) fitUnitSquare(mesh, uv);
+  const int faces = layout.faceCount();
+  StoredMap map(mesh, uv, policy.precision);
+  std::vector<int> bad;
+  for (int f = 0; f < faces; ++f)
+    if (!map.valid(f)) bad.push_back(f);
+  counts.degenerate_faces = static_cast<int>(bad.size());
+  if (step) step();
+
+  std::vector<char> moved(uv.size(), 0);
+  repairDegenerateFaces(mesh, map, bad, moved, counts);
   const char* name = uvStorageName(policy.precision);
   bool border_simple = false;
   if (step) step();
-  if (bad.empty()) {
-    // Rounding can also make a border touch itself (two copies of a vertex split at a pinch,
-    // a notch a hair's breadth wide): the vertices of the edges that meet move into their own
-    // faces, by a 64th of the way to their neighbours' centroid and twice as far each sweep
-    // they still meet (on the scans bench's 13.6M-face scan at 8192² in 6-decimal storage a
-    // few vertices did, after minutes of work).
-    constexpr int kSeparationSweeps = 10;
-    for (int sweep = 0; sweep < kSeparationSweeps; ++sweep) {
-      const std::vector<int> rows = verticesOfMeetingEdges(mesh.border, uv);
-      if (rows.empty()) {
-        border_simple = true;  // the same test as edgesAreSimple's: not run twice
-        break;
-      }
-      const double fraction = std::ldexp(1.0, std::min(sweep, 6) - 6);
-      for (int r : rows)
-        if (map.separate(r, fraction)) moved[r] = 1;
-    }
-  }
+  if (bad.empty()) border_simple = separateBorder(mesh, map, uv, moved);
   counts.moved_vertices = static_cast<int>(std::count(moved.begin(), moved.end(), 1));
   if (!bad.empty())
     throw ParameterizationError("no one-to-one map as stored (" + std::string(name) +

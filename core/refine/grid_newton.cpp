@@ -102,6 +102,91 @@ int GridNewtonSystem::bandSlot(int a, int b) const {
   return (dy + kReach) * kBandWidth + dx + kReach;
 }
 
+// Face f's share of the gradient and the Hessian (see sumFaces).
+void GridNewtonSystem::sumFace(int f, const LocalUVs& uv, const Energy& energy, double stiff_value,
+                               Partial& out) const {
+  const FaceFrame& frame = frames_[f];
+  if (frame.area == 0) return;
+  const auto& t = patch_.face[f];
+  Eigen::Vector4d dJ;
+  StretchModes modes;
+  faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, modes);
+  const Place &w0 = vertex_[t[0]], &w1 = vertex_[t[1]], &w2 = vertex_[t[2]];
+  if (w0.cell == w1.cell && w0.cell == w2.cell) {
+    const double cs[3] = {w0.s, w1.s, w2.s}, ct[3] = {w0.t, w1.t, w2.t};
+    const Eigen::Matrix<double, 2, 3> E = cellFrame(frame, cs, ct);
+    double* sums = &out.cell[static_cast<size_t>(w0.cell) * kCellSums];
+    addCellGradient(E, dJ, sums);
+    addCellHessian(E, modes, 1.0, sums);
+    return;
+  }
+  int node[12];
+  Eigen::Vector2d G[12];
+  const int count = gatherNodes(t, frame, node, G);
+  for (int l = 0; l < count; ++l) {
+    out.gradient[2 * node[l]] += G[l].dot(dJ.head<2>());
+    out.gradient[2 * node[l] + 1] += G[l].dot(dJ.tail<2>());
+  }
+  if (!(*std::max_element(modes.value.begin(), modes.value.end()) > stiff_value * frame.area)) {
+    const Place* corner[3] = {&w0, &w1, &w2};
+    for (const Place* home : corner) {
+      const int hx = home->cell % nx_, hy = home->cell / nx_;
+      double cs[3], ct[3];
+      for (int c = 0; c < 3; ++c) {
+        cs[c] = corner[c]->s + (corner[c]->cell % nx_ - hx);
+        ct[c] = corner[c]->t + (corner[c]->cell / nx_ - hy);
+      }
+      addCellHessian(cellFrame(frame, cs, ct), modes, 1.0 / 3,
+                     &out.cell[static_cast<size_t>(home->cell) * kCellSums]);
+    }
+    return;
+  }
+  addBandHessian(node, G, count, modes, out);
+}
+
+// The grid nodes that carry the corners of face t (each once) and their G_k.
+int GridNewtonSystem::gatherNodes(const std::array<int, 3>& t, const FaceFrame& frame, int node[12],
+                                  Eigen::Vector2d G[12]) const {
+  int count = 0;
+  for (int c = 0; c < 3; ++c) {
+    const std::array<int, 4> nodes = nodesOf(vertex_[t[c]]);
+    const std::array<double, 4> weights = weightsOf(vertex_[t[c]]);
+    for (int q = 0; q < 4; ++q) {
+      if (weights[q] == 0) continue;
+      int k = 0;
+      while (k < count && node[k] != nodes[q]) ++k;
+      if (k == count) {
+        node[count] = nodes[q];
+        G[count++].setZero();
+      }
+      G[k] += weights[q] * frame.g[c];
+    }
+  }
+  return count;
+}
+
+// A stiff face's exact Hessian G_k^T h G_l, in the band or, beyond its reach, in `far`.
+void GridNewtonSystem::addBandHessian(const int node[12], const Eigen::Vector2d G[12], int count,
+                                      const StretchModes& modes, Partial& out) const {
+  const Eigen::Matrix4d h = modes.matrix();
+  const Eigen::Matrix2d huu = h.topLeftCorner<2, 2>(), huv = h.topRightCorner<2, 2>();
+  const Eigen::Matrix2d hvu = h.bottomLeftCorner<2, 2>(), hvv = h.bottomRightCorner<2, 2>();
+  for (int l = 0; l < count; ++l) {
+    const Eigen::Vector2d uu = huu * G[l], uv_l = huv * G[l], vu = hvu * G[l], vv = hvv * G[l];
+    for (int k = 0; k < count; ++k) {
+      const double block[4] = {G[k].dot(uu), G[k].dot(uv_l), G[k].dot(vu), G[k].dot(vv)};
+      const int slot_k = bandSlot(node[k], node[l]);
+      if (slot_k >= 0) {
+        double* to = &out.band[(static_cast<size_t>(node[k]) * kBand + slot_k) * 4];
+        for (int e = 0; e < 4; ++e) to[e] += block[e];
+      } else {
+        for (int e = 0; e < 4; ++e)
+          out.far.emplace_back(2 * node[k] + e / 2, 2 * node[l] + e % 2, block[e]);
+      }
+    }
+  }
+}
+
 // Per face, J's change under the grid's displacements d_k is sum_k (G_k . d_k^u, G_k . d_k^v)
 // with G_k = sum over the corners of the corner's weight for node k times its gradient g: the
 // face's gradient dJ and Hessian h carried to its nodes. A face inside one cell goes through its
@@ -127,76 +212,7 @@ void GridNewtonSystem::sumFaces(const LocalUVs& uv, const Energy& energy) {
   const double scale = energy.S / area_;
   const double stiff_value = energy.S * 6 / std::pow(settings_.exact_below, 4) / (scale * scale);
   parallelForSlots(faces, slots, [&](int begin, int end, int slot) {
-    Partial& out = partial_[slot];
-    for (int f = begin; f < end; ++f) {
-      const FaceFrame& frame = frames_[f];
-      if (frame.area == 0) continue;
-      const auto& t = patch_.face[f];
-      Eigen::Vector4d dJ;
-      StretchModes modes;
-      faceNewtonTerms(frame, jacobian(frame, t, uv), energy, dJ, modes);
-      const Place &w0 = vertex_[t[0]], &w1 = vertex_[t[1]], &w2 = vertex_[t[2]];
-      if (w0.cell == w1.cell && w0.cell == w2.cell) {
-        const double cs[3] = {w0.s, w1.s, w2.s}, ct[3] = {w0.t, w1.t, w2.t};
-        const Eigen::Matrix<double, 2, 3> E = cellFrame(frame, cs, ct);
-        double* sums = &out.cell[static_cast<size_t>(w0.cell) * kCellSums];
-        addCellGradient(E, dJ, sums);
-        addCellHessian(E, modes, 1.0, sums);
-        continue;
-      }
-      int node[12];
-      Eigen::Vector2d G[12];
-      int count = 0;
-      for (int c = 0; c < 3; ++c) {
-        const std::array<int, 4> nodes = nodesOf(vertex_[t[c]]);
-        const std::array<double, 4> weights = weightsOf(vertex_[t[c]]);
-        for (int q = 0; q < 4; ++q) {
-          if (weights[q] == 0) continue;
-          int k = 0;
-          while (k < count && node[k] != nodes[q]) ++k;
-          if (k == count) {
-            node[count] = nodes[q];
-            G[count++].setZero();
-          }
-          G[k] += weights[q] * frame.g[c];
-        }
-      }
-      for (int l = 0; l < count; ++l) {
-        out.gradient[2 * node[l]] += G[l].dot(dJ.head<2>());
-        out.gradient[2 * node[l] + 1] += G[l].dot(dJ.tail<2>());
-      }
-      if (!(*std::max_element(modes.value.begin(), modes.value.end()) > stiff_value * frame.area)) {
-        const Place* corner[3] = {&w0, &w1, &w2};
-        for (const Place* home : corner) {
-          const int hx = home->cell % nx_, hy = home->cell / nx_;
-          double cs[3], ct[3];
-          for (int c = 0; c < 3; ++c) {
-            cs[c] = corner[c]->s + (corner[c]->cell % nx_ - hx);
-            ct[c] = corner[c]->t + (corner[c]->cell / nx_ - hy);
-          }
-          addCellHessian(cellFrame(frame, cs, ct), modes, 1.0 / 3,
-                         &out.cell[static_cast<size_t>(home->cell) * kCellSums]);
-        }
-        continue;
-      }
-      const Eigen::Matrix4d h = modes.matrix();
-      const Eigen::Matrix2d huu = h.topLeftCorner<2, 2>(), huv = h.topRightCorner<2, 2>();
-      const Eigen::Matrix2d hvu = h.bottomLeftCorner<2, 2>(), hvv = h.bottomRightCorner<2, 2>();
-      for (int l = 0; l < count; ++l) {
-        const Eigen::Vector2d uu = huu * G[l], uv_l = huv * G[l], vu = hvu * G[l], vv = hvv * G[l];
-        for (int k = 0; k < count; ++k) {
-          const double block[4] = {G[k].dot(uu), G[k].dot(uv_l), G[k].dot(vu), G[k].dot(vv)};
-          const int slot_k = bandSlot(node[k], node[l]);
-          if (slot_k >= 0) {
-            double* to = &out.band[(static_cast<size_t>(node[k]) * kBand + slot_k) * 4];
-            for (int e = 0; e < 4; ++e) to[e] += block[e];
-          } else {
-            for (int e = 0; e < 4; ++e)
-              out.far.emplace_back(2 * node[k] + e / 2, 2 * node[l] + e % 2, block[e]);
-          }
-        }
-      }
-    }
+    for (int f = begin; f < end; ++f) sumFace(f, uv, energy, stiff_value, partial_[slot]);
   });
   gradient_ = partial_[0].gradient;
   for (size_t s = 1; s < partial_.size(); ++s) {

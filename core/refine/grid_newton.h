@@ -125,6 +125,12 @@ class GridNewtonSystem {
   bool layOver(const LocalUVs& uv);  // false when the map has no extent
   int bandSlot(int a, int b) const;
   void sumFaces(const LocalUVs& uv, const Energy& energy);
+  void sumFace(int f, const LocalUVs& uv, const Energy& energy, double stiff_value,
+               Partial& out) const;
+  int gatherNodes(const std::array<int, 3>& t, const FaceFrame& frame, int node[12],
+                  Eigen::Vector2d G[12]) const;
+  void addBandHessian(const int node[12], const Eigen::Vector2d G[12], int count,
+                      const StretchModes& modes, Partial& out) const;
   void addCellSums();
   void assembleMatrix();
 

@@ -404,6 +404,81 @@ double firstFineNewtonStepWork(int faces) {
   return faces * 2000.0;
 }
 
+namespace {
+
+// The grid's steps first, then the fine ones, each with its own count (up to `steps` fine
+// steps). A grid step that fails or stops gaining hands over to the fine steps; running out
+// of budget ends both. `energy` is the current map's; `trial` receives each candidate's.
+void takeNewtonSteps(const Patch& patch, const std::vector<FaceFrame>& frames, double total_area,
+                     int steps, const StretchNewtonSettings& settings, NewtonDirection& newton,
+                     CheckedDescent& descent, StretchNewtonCounts& counts, Energy& energy,
+                     Energy& trial) {
+  const int n = patch.real_vertex_count;
+  const int faces = patch.real_face_count;
+  LocalUVs& current = descent.current();
+  Eigen::VectorXd& direction = newton.direction;
+  LocalUVs step(current.size(), Eigen::Vector2d::Zero());
+  const int grid_steps = newton.inGridPhase() ? settings.grid_max_steps : 0;
+  int begun = 0;
+  for (const bool grid : {true, false}) {
+    if (grid != newton.inGridPhase()) continue;
+    bool finished = false;  // the budget ran out, or the fine steps stopped
+    for (int it = 0; it < (grid ? grid_steps : steps); ++it) {
+      if (!descent.beginStep(begun++, grid_steps + steps)) {
+        finished = true;
+        break;
+      }
+      double slope = 0;
+      if (!newton.compute(current, energy, descent, counts, slope) ||
+          (!(slope < 0) && !newton.gradientDirection(slope))) {
+        finished = counts.stopped = !grid;
+        break;
+      }
+      for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
+
+      // Capped short of the first collapse, then halved until the energy drops enough; the
+      // map is checked at the scale it is returned at.
+      const auto sufficientDecrease = [&](LocalUVs& candidate, double length) {
+        trial = energyOf(patch, frames, candidate);
+        descent.addWork(faces * WorkCosts::kEnergyFace);
+        if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) return false;
+        return rescaleToArea(candidate, n, total_area, trial);
+      };
+      const double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
+      descent.addWork(faces * WorkCosts::kFlipCheckFace);
+      const CheckedDescent::Outcome outcome = descent.tryStep(step, length, 30, sufficientDecrease);
+      if (!outcome.taken) {
+        finished = counts.stopped = !grid;
+        break;
+      }
+      ++counts.steps_taken;
+      newton.adapt(length, outcome.halvings);
+      const double before = energy.value();
+      energy = trial;
+      const double gain = outcome.gained ? 1 - energy.value() / before : 0;
+      if (grid && newton.refineGrid(gain)) {
+        descent.expectNextStepWork(gridNewtonStepWork(faces, newton.gridCells()));
+        continue;
+      }
+      if (!outcome.gained) {
+        finished = !grid;
+        break;
+      }
+      if (!(energy.value() < before * (1 - 1e-9))) {  // converged as far as doubles tell
+        finished = counts.stopped = !grid;
+        break;
+      }
+    }
+    if (grid) {
+      newton.leaveGridPhase();
+      descent.expectNextStepWork(settings.first_fine_step_work);
+    }
+    if (finished) break;
+  }
+}
+
+}  // namespace
+
 bool stretchNewtonIsMatrixFree(int vertices, const StretchNewtonSettings& settings) {
   return SolvePath(vertices, settings.direct_up_to).iterative();
 }
@@ -435,68 +510,8 @@ LocalUVs minimizeStretchWithFreeBoundary(const Patch& patch, const LocalUVs& uv,
     Energy trial;  // a candidate's
     descent->measureL2By([&] { return l2(trial); }, l2(energy), uv);
     NewtonDirection newton(patch, frames, settings);
-    Eigen::VectorXd& direction = newton.direction;
-    LocalUVs step(current.size(), Eigen::Vector2d::Zero());
-    // The grid's steps first, then the fine ones, each with its own count. A grid step that
-    // fails or stops gaining hands over to the fine steps; running out of budget ends both.
-    const int grid_steps = newton.inGridPhase() ? settings.grid_max_steps : 0;
-    int begun = 0;
-    for (const bool grid : {true, false}) {
-      if (grid != newton.inGridPhase()) continue;
-      bool finished = false;  // the budget ran out, or the fine steps stopped
-      for (int it = 0; it < (grid ? grid_steps : steps); ++it) {
-        if (!descent->beginStep(begun++, grid_steps + steps)) {
-          finished = true;
-          break;
-        }
-        double slope = 0;
-        if (!newton.compute(current, energy, *descent, counts, slope) ||
-            (!(slope < 0) && !newton.gradientDirection(slope))) {
-          finished = counts.stopped = !grid;
-          break;
-        }
-        for (int v = 0; v < n; ++v) step[v] = direction.segment<2>(2 * v);
-
-        // Capped short of the first collapse, then halved until the energy drops enough; the
-        // map is checked at the scale it is returned at.
-        const auto sufficientDecrease = [&](LocalUVs& candidate, double length) {
-          trial = energyOf(patch, frames, candidate);
-          descent->addWork(faces * WorkCosts::kEnergyFace);
-          if (!(trial.value() <= energy.value() + 1e-4 * length * slope)) return false;
-          return rescaleToArea(candidate, n, total_area, trial);
-        };
-        const double length = std::min(1.0, 0.8 * stepBeforeCollapse(patch, current, step));
-        descent->addWork(faces * WorkCosts::kFlipCheckFace);
-        const CheckedDescent::Outcome outcome =
-            descent->tryStep(step, length, 30, sufficientDecrease);
-        if (!outcome.taken) {
-          finished = counts.stopped = !grid;
-          break;
-        }
-        ++counts.steps_taken;
-        newton.adapt(length, outcome.halvings);
-        const double before = energy.value();
-        energy = trial;
-        const double gain = outcome.gained ? 1 - energy.value() / before : 0;
-        if (grid && newton.refineGrid(gain)) {
-          descent->expectNextStepWork(gridNewtonStepWork(faces, newton.gridCells()));
-          continue;
-        }
-        if (!outcome.gained) {
-          finished = !grid;
-          break;
-        }
-        if (!(energy.value() < before * (1 - 1e-9))) {  // converged as far as doubles tell
-          finished = counts.stopped = !grid;
-          break;
-        }
-      }
-      if (grid) {
-        newton.leaveGridPhase();
-        descent->expectNextStepWork(settings.first_fine_step_work);
-      }
-      if (finished) break;
-    }
+    takeNewtonSteps(patch, frames, total_area, steps, settings, newton, *descent, counts, energy,
+                    trial);
     return bestOf(*descent, counts);
   } catch (const std::bad_alloc&) {
     counts.skipped = true;  // the system did not fit: keep the best map so far
