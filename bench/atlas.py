@@ -4,7 +4,7 @@ wrote (bench/atlas_score.cpp over core/atlas/measure.h): charts, seam, L2, L-inf
 faces, mirrored charts, overlapping pixels and gutter violations at the texture size, efficiency,
 seconds (each tool's own work) and peak memory (each tool runs in a process of its own).
 
-    python3 bench/atlas.py [--build build] [--shared ../shared] [--big | --cad] [--readme README.md]
+    python3 bench/atlas.py [--build build] [--shared ../shared] [--big | --cad] [--doc docs/benchmarks.md]
                            [--texture-size 4096] [--gutter 2] [--xatlas-big-limit 2400]
                            [--brute-limit 30] [--methods ours,xatlas,...] [--only MODEL,...]
 
@@ -20,8 +20,8 @@ gets the same triangles.
 With --cad the models are instead the 32 generated CAD/mechanical ones of bench/cad_models.py
 (a quarter held out of tuning, reported apart), the methods by default ours, xatlas and geotex.
 
-Writes bench/results/atlas.md, atlas.csv, atlas_*.png and, with --readme, the README's
-bench:atlas block; with --cad, atlas_cad.md, atlas_cad.csv, atlas_cad_<model>.png and the
+Writes bench/results/atlas.md, atlas.csv, atlas_*.png and, with --doc, that file's bench:atlas
+block; with --cad, atlas_cad.md, atlas_cad.csv, atlas_cad_<model>.png and the
 bench:atlas-cad block instead, so that neither run overwrites the other's."""
 import argparse
 import csv
@@ -40,7 +40,7 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(HERE))
-from run import replace_block  # noqa: E402
+from run import replace_block, results_link  # noqa: E402
 
 METHODS = ["ours", "xatlas", "xatlas-brute", "geotex", "blender", "voronoi", "trivial"]
 LABELS = {
@@ -433,7 +433,8 @@ def main():
                         help="seconds for xatlas's bruteForce packing on one model")
     parser.add_argument("--methods", help=f"default all; {CAD_METHODS} with --cad")
     parser.add_argument("--only", help="comma-separated model names (a quick run)")
-    parser.add_argument("--readme", type=pathlib.Path)
+    parser.add_argument("--doc", type=pathlib.Path,
+                        help="the file holding the bench:atlas block (docs/benchmarks.md)")
     args = parser.parse_args()
     if args.cad and args.big:
         parser.error("--big adds to the default set, not to --cad")
@@ -484,9 +485,13 @@ def main():
     wanted = ("plate_hole_pattern",) if args.cad else ("bunny", "fertility")
     picture_models = [m for m in wanted if any(n == m for n, _ in rows_by_model)]
     picture_lines = []
+    doc_picture_lines = []  # the same, linked from where --doc is (docs/: ../bench/results/)
     for model in picture_models:
         png = results / f"{prefix}_{model}.png"
         pictures(model, dict(rows_by_model)[model], png)
+        if args.doc:
+            doc_picture_lines.append(f"![{model}: each method's checkerboard and UV layout]"
+                                     f"({results_link(png.name, args.doc)})")
         picture_lines.append(f"![{model}: each method's checkerboard and UV layout]"
                              f"(bench/results/{png.name})")
     keys = sorted({k for r in csv_rows for k in r})
@@ -531,18 +536,22 @@ def main():
     body = short + "\n" + table(shown, methods) + "\n" + "\n\n".join(picture_lines) + "\n"
     (results / f"{prefix}.md").write_text(body)
     print(body)
-    if args.readme:
+    if args.doc:
         block = "atlas-cad" if args.cad else "atlas"
-        text = args.readme.read_text()
-        # replace_block leaves a README without the block's markers as it is, silently.
+        text = args.doc.read_text()
+        # replace_block leaves a file without the block's markers as it is, silently.
         if f"<!-- bench:{block} -->" not in text or f"<!-- /bench:{block} -->" not in text:
-            print(f"atlas bench: {args.readme} has no bench:{block} block, left as it is",
+            print(f"atlas bench: {args.doc} has no bench:{block} block, left as it is",
                   file=sys.stderr)
         else:
-            readme_body = (short + f"\nEvery model and method: [bench/results/{prefix}.md]"
-                           f"(bench/results/{prefix}.md).\n\n" + "\n\n".join(picture_lines) +
-                           "\n")
-            args.readme.write_text(replace_block(text, block, readme_body))
+            doc_body = (short + f"\nEvery model and method: [bench/results/{prefix}.md]"
+                        f"({results_link(prefix + '.md', args.doc)}).\n\n" +
+                        "\n\n".join(doc_picture_lines) + "\n")
+            args.doc.write_text(replace_block(text, block, doc_body))
+        if not args.cad:
+            # The README's short table against the peers reads atlas.csv (and quality.csv).
+            import summary
+            summary.update()
     shutil.rmtree(work, ignore_errors=True)
 
 

@@ -5,9 +5,9 @@ Vertex Attributes to Texture (1 or 2 meshes)*. The picture shows the vertex colo
 the baked texture, and the mesh rendered with that texture; the numbers compare the colours
 read back from the texture (MeshLab's *Transfer: Texture to Vertex Color*) with the originals.
 
-usage: .venv/bin/python bench/baking.py [--build build] [--size 1024] [--readme README.md]
-Writes bench/results/baking.png and bench/results/baking.md (and the README's bench:baking
-block)."""
+usage: .venv/bin/python bench/baking.py [--build build] [--size 1024] [--doc docs/benchmarks.md]
+Writes bench/results/baking.png and bench/results/baking.md (and, with --doc, that file's
+bench:baking block)."""
 import argparse
 import pathlib
 import tempfile
@@ -15,7 +15,7 @@ import tempfile
 import numpy as np
 
 import render
-from run import replace_block
+from run import DOC, replace_block, results_link
 
 HERE = pathlib.Path(__file__).resolve().parent
 REPO = HERE.parent
@@ -35,7 +35,8 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--build", type=pathlib.Path, default=REPO / "build")
     parser.add_argument("--size", type=int, default=1024)
-    parser.add_argument("--readme", type=pathlib.Path)
+    parser.add_argument("--doc", type=pathlib.Path,
+                        help="the file holding the bench:baking block (docs/benchmarks.md)")
     args = parser.parse_args()
     plugin = args.build / "plugins" / "meshlab-2025.07" / "libfilter_straightest_param.so"
     ml = load_pymeshlab(plugin)
@@ -101,13 +102,13 @@ def main():
         f"{args.size}² texture. Read back by *Transfer: Texture to Vertex Color*, the colours "
         f"of the {used.sum()} vertices that faces use differ from the originals by "
         f"{difference.mean():.2f} of 255 on average (largest {difference.max():.0f}; the "
-        f"other {len(vertices) - used.sum()} vertices belong to no face). Made by `.venv/bin/python bench/baking.py --readme "
-        "README.md`.\n\n![vertex colours, the baked texture, the textured mesh]"
-        "(bench/results/baking.png)\n")
+        f"other {len(vertices) - used.sum()} vertices belong to no face). Made by `.venv/bin/python bench/baking.py --doc "
+        "docs/benchmarks.md`.\n\n![vertex colours, the baked texture, the textured mesh]"
+        f"({results_link('baking.png', args.doc or DOC)})\n")
     (results / "baking.md").write_text(body)
     print(body)
-    if args.readme:
-        args.readme.write_text(replace_block(args.readme.read_text(), "baking", body))
+    if args.doc:
+        args.doc.write_text(replace_block(args.doc.read_text(), "baking", body))
 
 
 if __name__ == "__main__":

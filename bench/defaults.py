@@ -6,9 +6,10 @@ in .venv-blender), and on face.off / lilium.off
 subdivided up to 1.65M vertices with --scaling. Flipped faces are
 recomputed from the written files (OBJ, and float PLY), not taken from the report.
 
-    python3 bench/defaults.py [--build build] [--shared ../shared] [--scaling] [--readme README.md]
+    python3 bench/defaults.py [--build build] [--shared ../shared] [--scaling]
+                              [--doc docs/benchmarks.md]
 
-Writes bench/results/defaults.md and, with --readme, the README's bench:defaults block.
+Writes bench/results/defaults.md and, with --doc, that file's bench:defaults block.
 """
 import argparse
 import json
@@ -203,7 +204,8 @@ def main():
     parser.add_argument("--scaling", action="store_true")
     parser.add_argument("--cache", default=pathlib.Path.home() / ".cache/straightest-param/bench",
                         type=pathlib.Path)
-    parser.add_argument("--readme", type=pathlib.Path)
+    parser.add_argument("--doc", type=pathlib.Path,
+                        help="the file holding the bench:defaults block (docs/benchmarks.md)")
     args = parser.parse_args()
     cli = args.build / "bin" / "straightest_param"
 
@@ -244,8 +246,8 @@ def main():
     body = "\n".join(lines)
     out = root / "bench" / "results" / "defaults.md"
     out.write_text(body + "\n")
-    if args.readme:
-        args.readme.write_text(replace_block(args.readme.read_text(), "defaults", body))
+    if args.doc:
+        args.doc.write_text(replace_block(args.doc.read_text(), "defaults", body))
 
 
 if __name__ == "__main__":

@@ -10,9 +10,9 @@ The atlas runs the same three ways on the scans bench's armadillo x16 without no
 bench/scans.py; 8192 texture, float PLY as MeshLab stores it), unless --no-atlas.
 
     python3 bench/determinism.py [--build build] [--shared ../shared] [--no-atlas]
-                                 [--readme README.md]
+                                 [--doc docs/benchmarks.md]
 
-Writes bench/results/determinism.md and, with --readme, the README's bench:determinism block.
+Writes bench/results/determinism.md and, with --doc, that file's bench:determinism block.
 """
 import argparse
 import pathlib
@@ -48,7 +48,8 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--build", default="build")
     parser.add_argument("--shared", default=str(HERE.parent.parent / "shared"))
-    parser.add_argument("--readme")
+    parser.add_argument("--doc", help="the file holding the bench:determinism block "
+                                          "(docs/benchmarks.md)")
     parser.add_argument("--no-atlas", action="store_true")
     args = parser.parse_args()
     build = pathlib.Path(args.build)
@@ -111,9 +112,9 @@ def main():
     out = HERE / "results" / "determinism.md"
     out.write_text("# Same bytes on every run\n\n" + text)
     print(f"wrote {out}")
-    if args.readme:
-        readme = pathlib.Path(args.readme)
-        readme.write_text(replace_block(readme.read_text(), "determinism", text))
+    if args.doc:
+        doc = pathlib.Path(args.doc)
+        doc.write_text(replace_block(doc.read_text(), "determinism", text))
 
 
 if __name__ == "__main__":

@@ -15,8 +15,8 @@
 
   png       the checkerboard PNG written by ours and by libpng (sdp_png_bench), when libpng is there
 
-Writes bench/results/readers.md and, with --readme, the README's bench:readers block.
-  .venv/bin/python bench/readers.py --build build [--readme README.md]"""
+Writes bench/results/readers.md and, with --doc, that file's bench:readers block.
+  .venv/bin/python bench/readers.py --build build [--doc docs/benchmarks.md]"""
 import argparse
 import collections
 import importlib.util
@@ -199,7 +199,8 @@ def classify(binary, reader, path):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--build", default=str(REPO / "build"))
-    parser.add_argument("--readme")
+    parser.add_argument("--doc", help="the file holding the bench:readers block "
+                                          "(docs/benchmarks.md)")
     args = parser.parse_args()
     bin_dir = pathlib.Path(args.build) / "bin"
     reader_bench = bin_dir / "sdp_reader_bench"
@@ -280,11 +281,11 @@ def main():
     RESULTS.mkdir(parents=True, exist_ok=True)
     (RESULTS / "readers.md").write_text(body + "\n")
     print(body)
-    if args.readme:
-        readme = pathlib.Path(args.readme)
-        text = readme.read_text()
+    if args.doc:
+        doc = pathlib.Path(args.doc)
+        text = doc.read_text()
         pattern = re.compile(r"(<!-- bench:readers -->\n).*?(<!-- /bench:readers -->)", re.S)
-        readme.write_text(pattern.sub(lambda m: m.group(1) + body + "\n" + m.group(2), text))
+        doc.write_text(pattern.sub(lambda m: m.group(1) + body + "\n" + m.group(2), text))
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Pictures for the README, drawn from a result file by a small offscreen rasterizer (numpy +
-matplotlib only): the checkerboard on the 3D mesh, the stretch heat map on the 3D mesh, and the
-flattened layout.
+"""Pictures for docs/benchmarks.md, drawn from a result file by a small offscreen rasterizer
+(numpy + matplotlib only): the checkerboard on the 3D mesh, the stretch heat map on the 3D mesh,
+and the flattened layout.
 
 usage: render.py RESULT.obj OUT.png [--title TEXT]
 RESULT.obj is what straightest_param writes (v, vt, f v/vt). The checkerboard is the same

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs every benchmark of the README in one go and writes its tables and plot.
+"""Runs every benchmark of docs/benchmarks.md in one go and writes its tables and plot.
 
 Quality: every shared disk mesh x every weights x boundary pair of ours (+ refined), the CGAL 5.5
 peers (Tutte, mean value, discrete conformal, discrete authalic; circle border) and MeshLab's own
@@ -24,6 +24,8 @@ import numpy as np
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SHARED = pathlib.Path(os.environ.get("SDP_SHARED_DIR", REPO.parent / "shared"))
 RESULTS = REPO / "bench" / "results"
+# The file the benches write their tables into, between <!-- bench:NAME --> markers.
+DOC = REPO / "docs" / "benchmarks.md"
 DISK = ["nefertiti", "snail", "camel_b", "lilium", "bump-domain", "circle", "camelhead", "face"]
 QUICK_DISK = ["nefertiti", "snail", "lilium"]
 WEIGHTS = ["straightest", "ltd", "floater", "mean_value", "uniform"]
@@ -272,7 +274,7 @@ def renders(bench, folder):
         title = (f"{name}: straightest + {report['boundary_used']}{what} — L2 {report['l2_stretch']:.3f}, "
                  f"L∞ {report['linf_stretch']:.2f}, {report['flipped_faces']} flipped")
         subprocess.run([sys.executable, REPO / "bench/render.py", obj, png, "--title", title], check=True)
-        lines.append(f"![{tag}](bench/results/{png.name})")
+        lines.append(f"![{tag}]({results_link(png.name)})")
     return "\n\n".join(lines)
 
 
@@ -364,6 +366,12 @@ def plot(rows, path):
     fig.savefig(path)
 
 
+def results_link(name, doc=DOC):
+    """bench/results/NAME as a Markdown link target from the file DOC (docs/benchmarks.md:
+    ../bench/results/NAME), so that the pictures and files a block links to resolve where it is."""
+    return os.path.relpath(RESULTS / name, pathlib.Path(doc).resolve().parent)
+
+
 def replace_block(text, name, body):
     pattern = re.compile(rf"(<!-- bench:{name} -->\n).*?(<!-- /bench:{name} -->)", re.S)
     if not pattern.search(text):
@@ -395,11 +403,13 @@ def main():
         (RESULTS / f"{name}.md").write_text(body + "\n")
         print(f"\n## {name}\n{body}")
     if not args.quick:
-        readme = REPO / "README.md"
-        text = readme.read_text()
+        text = DOC.read_text()
         for name, body in blocks.items():
             text = replace_block(text, name, body)
-        readme.write_text(text)
+        DOC.write_text(text)
+        # The README's short table against the peers reads quality.csv (and atlas.csv).
+        import summary
+        summary.update()
 
 
 if __name__ == "__main__":

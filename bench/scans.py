@@ -10,12 +10,13 @@ as MeshLab stores texture coordinates (float PLY, `--uv-storage float`) and scor
 peak memory, and CPU time over wall time (both cores at work).
 
     .venv/bin/python bench/scans.py [--build build] [--shared ../shared] [--big]
-                                    [--texture-size 8192] [--peers] [--readme README.md]
+                                    [--texture-size 8192] [--peers]
+                                    [--doc docs/benchmarks.md]
 
 Meshes: armadillo x16 (1.38M faces), tuned on; fertility x64 (0.58M faces, genus 4), kept out of
 the tuning and reported apart. --big adds armadillo x64 (5.5M) and cheburashka x1024 (13.7M).
 --peers runs xatlas 0.0.11 on the armadillo x16 scan with a 20-minute limit.
-Writes bench/results/scans.md and, with --readme, the README's bench:scans block."""
+Writes bench/results/scans.md and, with --doc, that file's bench:scans block."""
 import argparse
 import json
 import os
@@ -136,7 +137,7 @@ def main():
     parser.add_argument("--big", action="store_true")
     parser.add_argument("--peers", action="store_true")
     parser.add_argument("--texture-size", type=int, default=8192)
-    parser.add_argument("--readme")
+    parser.add_argument("--doc", help="the file holding the bench:scans block (docs/benchmarks.md)")
     parser.add_argument("--only", help="comma-separated mesh names")
     args = parser.parse_args()
     meshes = MESHES + (BIG if args.big else [])
@@ -193,12 +194,12 @@ def main():
     results.mkdir(exist_ok=True)
     (results / "scans.md").write_text(body + "\n")
     print(body)
-    if args.readme:
-        readme = pathlib.Path(args.readme)
-        text = readme.read_text()
+    if args.doc:
+        doc = pathlib.Path(args.doc)
+        text = doc.read_text()
         if "<!-- bench:scans -->" not in text:
-            sys.exit(f"scans.py: {readme} has no <!-- bench:scans --> block")
-        readme.write_text(replace_block(text, "scans", body))
+            sys.exit(f"scans.py: {doc} has no <!-- bench:scans --> block")
+        doc.write_text(replace_block(text, "scans", body))
 
 
 if __name__ == "__main__":

@@ -199,7 +199,7 @@ function(sdp_add_meshlab_build row)
 
   set(libraries ${api_libraries})
   set(allow_undefined "")
-  # Not into this machine's MeshLab unless it is the host's: the README says where each goes.
+  # Not into this machine's MeshLab unless it is the host's: docs/meshlab.md says where each goes.
   set(install_dir "lib/straightest_param/${folder}")
   if(runs_in STREQUAL "host")
     if(NOT EXISTS "${MESHLAB_HOST_COMMON_LIBRARY}")

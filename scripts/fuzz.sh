@@ -6,7 +6,7 @@
 #                                   15 at most). The log carries each finding, so a CI result replays.
 #   bash scripts/fuzz.sh --seconds 3600 [--seed N]   a longer run from a random seed (or N) that
 #                                   keeps its corpus in build-fuzz/corpus between runs: finds new
-#                                   inputs (documented in the README).
+#                                   inputs (documented in docs/robustness.md).
 # Seeds: the test meshes (resources/meshes, plus SDP_SHARED_DIR's when there; STL and tristrip
 # PLY from resources/meshes/inputs) and tests/fuzz/regressions (inputs that once failed, kept
 # forever).

@@ -6,7 +6,9 @@
 #   /usr/lib/x86_64-linux-gnu/meshlab/plugins/libfilter_straightest_param.so   the plugin
 #   /usr/bin/straightest_param                                                 the command line tool
 #   /usr/share/straightest_param/straightest_param.mlx                         the example script
-#   /usr/share/doc/<package>/                                                  README, docs, copyright
+#   /usr/share/doc/<package>/                                                  README.md, copyright
+#   /usr/share/doc/<package>/docs/                                             docs/*.md, docs/images/
+# (the docs keep the repository's folders, so that the README's links resolve where it is).
 # They ship the same /usr/bin/straightest_param, so they conflict with one another (a
 # system has one MeshLab). Tested by tests/packages/deb_test.py: apt-get install, a run in that
 # MeshLab, apt-get remove.
@@ -54,9 +56,9 @@ while IFS=$'\t' read -r -u 3 folder meshlab_version _api _scalar _runs_in _tarba
   install -D -m 644 "$repo_dir/resources/straightest_param.mlx" "$staging/usr/share/straightest_param/straightest_param.mlx"
   doc="$staging/usr/share/doc/$package"
   install -D -m 644 "$repo_dir/README.md" "$doc/README.md"
-  if [[ -d "$repo_dir/docs" ]]; then
-    find "$repo_dir/docs" -maxdepth 1 -type f -name '*.md' -exec install -m 644 {} "$doc/" \;
-  fi
+  for file in "$repo_dir"/docs/*.md "$repo_dir"/docs/images/*; do
+    if [[ -f "$file" ]]; then install -D -m 644 "$file" "$doc/${file#"$repo_dir/"}"; fi
+  done
   cat >"$doc/copyright" <<EOF
 Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/
 Upstream-Name: straightest-param

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""The README's table of supported MeshLab builds, generated from meshlab-builds.tsv.
+"""docs/meshlab.md's table of supported MeshLab builds, generated from meshlab-builds.tsv.
 
-  python3 scripts/meshlab_builds.py --check   fails, naming the block, when README.md differs
+  python3 scripts/meshlab_builds.py --check   fails, naming the block, when docs/meshlab.md differs
   python3 scripts/meshlab_builds.py --write   rewrites the block between
                                               <!-- table:meshlab-builds --> and its end marker
 """
@@ -66,12 +66,13 @@ def markdown():
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--readme", default=str(REPO / "README.md"))
+    parser.add_argument("--doc", default=str(REPO / "docs" / "meshlab.md"),
+                        help="the file holding the table (default docs/meshlab.md)")
     mode = parser.add_mutually_exclusive_group(required=True)
     mode.add_argument("--check", action="store_true")
     mode.add_argument("--write", action="store_true")
     args = parser.parse_args()
-    path = pathlib.Path(args.readme)
+    path = pathlib.Path(args.doc)
     text = path.read_text()
     begin = text.find(BEGIN)
     end = text.find(END, begin) if begin >= 0 else -1

@@ -57,7 +57,7 @@ while IFS=$'\t' read -r -u 3 _folder meshlab_version _api _scalar runs_in _tarba
 done 3< <(meshlab_builds)
 
 wheel=$(bash "$repo_dir/scripts/make-wheel.sh" "$build_dir" "$build_dir/wheels")
-# What the wheel's platform tag may honestly be (README, pymeshlab section).
+# What the wheel's platform tag may honestly be (docs/pymeshlab.md).
 "$repo_dir/.venv/bin/auditwheel" show "$wheel" 2>&1 | tee "$build_dir/wheels/auditwheel.txt" |
   grep -A1 -E "consistent|constrains" || true
 venv="$out/wheel-venv"

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# Regenerates the README's MeshLab pictures from real runs of the GUI test
+# Regenerates the MeshLab pictures of README.md and docs/meshlab.md from real runs of the GUI test
 # (tests/gui/meshlab_gui_test.py: MeshLab under Xvfb, Filters -> Texture -> Parametrization:
 # Straightest Distances -> Apply), for each MeshLab GUI the project is tested in:
-#   this machine's MeshLab (the host row of meshlab-builds.tsv), our plugin from a private prefix:
+#   this machine's MeshLab (the host row of meshlab-builds.tsv), our plugin from a private prefix
+#   (README.md shows these):
 #     docs/images/meshlab_menu.png      the open Filters -> Texture menu, our entry highlighted
 #     docs/images/meshlab_dialog.png    the filter's parameter dialog
 #     docs/images/meshlab_textured.png  the MeshLab window after Apply: checkerboard on the mesh,
 #                                       our report (L2 stretch, ...) in the log pane
 #   each MeshLab of the table that runs in a Debian root (scripts/make-meshlab-root.sh), our plugin
-#   in the per-user plugin folder:
+#   in the per-user plugin folder (docs/meshlab.md shows the menu and textured ones):
 #     docs/images/meshlab-<version>_{menu,dialog,textured}.png
 # Fails if a GUI test fails; the pictures of the versions before it are already updated.
 #

@@ -1,8 +1,8 @@
-// Checks or rewrites the README blocks generated from the filter's definition:
+// Checks or rewrites the docs/usage.md blocks generated from the filter's definition:
 //   <!-- table:parameters --> ... <!-- /table:parameters -->
 //   <!-- table:report --> ... <!-- /table:report -->
 //   <!-- table:atlas-parameters --> ... and <!-- table:atlas-report --> ...
-// Usage: readme_tables README.md --check|--write. Exit 1 (with the reason) when --check finds a
+// Usage: readme_tables docs/usage.md --check|--write. Exit 1 (with the reason) when --check finds a
 // block missing or different.
 #include <fstream>
 #include <iostream>
@@ -13,7 +13,7 @@
 
 int main(int argc, char** argv) {
   if (argc != 3 || (std::string(argv[2]) != "--check" && std::string(argv[2]) != "--write")) {
-    std::cerr << "usage: readme_tables README.md --check|--write\n";
+    std::cerr << "usage: readme_tables docs/usage.md --check|--write\n";
     return 2;
   }
   const std::string path = argv[1];

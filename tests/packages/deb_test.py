@@ -13,11 +13,13 @@ Where:
               installed by a failed run is removed first, and at the end whatever happens.
 
 Checks: the package installs with apt-get, puts the plugin into MeshLab's plugin folder,
-straightest_param into /usr/bin and the .mlx and docs under /usr/share; the installed filter maps
+straightest_param into /usr/bin and the .mlx and docs under /usr/share (every relative link of
+the installed README resolving inside its doc folder); the installed filter maps
 a disk (0 flipped faces recomputed from the saved OBJ) and the installed CLI does too; after
 `apt-get remove` the files are gone and MeshLab opens and saves a mesh without our filter.
 """
 import argparse
+import importlib.util
 import os
 import shutil
 import subprocess
@@ -28,6 +30,12 @@ CHECK_OBJ = os.path.join(HERE, "..", "meshlab", "check_obj_uv.py")
 HEADLESS = os.path.join(HERE, "..", "meshlab_roots", "headless_case.py")
 sys.path.insert(0, os.path.join(HERE, "..", "meshlab_roots"))
 import debian_root  # noqa: E402
+
+# scripts/check-links.py (its name has a hyphen, so it is loaded from its path).
+_spec = importlib.util.spec_from_file_location(
+    "check_links", os.path.join(HERE, "..", "..", "scripts", "check-links.py"))
+check_links = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(check_links)
 
 PLUGIN = "/usr/lib/x86_64-linux-gnu/meshlab/plugins/libfilter_straightest_param.so"
 FILES = [PLUGIN, "/usr/bin/straightest_param", "/usr/share/straightest_param/straightest_param.mlx"]
@@ -88,6 +96,10 @@ def test(args, target, folder):
     docs = target.path("/usr/share/doc/%s" % package)
     check(os.path.isfile(os.path.join(docs, "README.md")) and
           os.path.isfile(os.path.join(docs, "copyright")), "docs in /usr/share/doc/%s" % package)
+    readme = os.path.join(docs, "README.md")
+    broken = check_links.broken(readme, inside=docs)
+    check(not broken, "every relative link of the installed README resolves in /usr/share/doc/%s"
+          % package + "".join("\n  line %d: %s: %s" % b for b in broken))
 
     # The installed command line tool.
     cli_out = folder + "/cli.obj"

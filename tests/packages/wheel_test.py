@@ -7,8 +7,9 @@ Checks:
            MeshSet.compute_texcoord_parametrization_straightest_distances, and pymeshlab is the
            release asked for (--pymeshlab: 2025.7.post1 installed as the wheel's dependency, or
            an older one installed before it), whose own plugin was loaded;
-  snippet  the README's package snippet, verbatim, in a folder holding a copy of the demo mesh:
-           no load_plugin or bind lines, a report with 0 flipped faces, an OBJ with per-wedge UVs;
+  snippet  the README's package snippet (docs/pymeshlab.md holds the same), verbatim, in a folder
+           holding a copy of the demo mesh: no load_plugin or bind lines, a report with 0 flipped
+           faces, an OBJ with per-wedge UVs;
   notes    a quad mesh and a randomly wound one: the dict's `notes` name save_polygonal and
            the re-orienting filter, and save_current_mesh's defaults keep the texture
            coordinates on every (triangle) face;
@@ -110,10 +111,13 @@ def main():
           + last)
 
     # --- the README snippet -----------------------------------------------------------------
-    text = (REPO / "README.md").read_text()
-    match = re.search(r"<!-- pip-package-snippet -->\n```python\n(.*?)```", text, re.S)
+    pattern = r"<!-- pip-package-snippet -->\n```python\n(.*?)```"
+    match = re.search(pattern, (REPO / "README.md").read_text(), re.S)
     check(match is not None, "README has the package snippet")
     snippet = match.group(1)
+    copy = re.search(pattern, (REPO / "docs" / "pymeshlab.md").read_text(), re.S)
+    check(copy is not None and copy.group(1) == snippet,
+          "docs/pymeshlab.md has the same package snippet")
     check("load_plugin" not in snippet and "bind_function" not in snippet,
           "the snippet has no load_plugin/bind_function lines")
     folder = out / "snippet"

@@ -1,7 +1,7 @@
-"""The README's pymeshlab snippet (from a build), executed verbatim in a fresh interpreter from a
-folder laid out like the repository (it names the default build folder build/ and
-resources/meshes/, as a reader's clone has them): the filter writes its checkerboard next to the
-mesh, which must not land in the clone's resources/."""
+"""The pymeshlab snippet from a build (docs/pymeshlab.md), executed verbatim in a fresh
+interpreter from a folder laid out like the repository (it names the default build folder build/
+and resources/meshes/, as a reader's clone has them): the filter writes its checkerboard next to
+the mesh, which must not land in the clone's resources/."""
 import os
 import re
 import shutil
@@ -12,9 +12,9 @@ from conftest import PLUGIN, REPO
 
 
 def test_readme_snippet_runs_verbatim(tmp_path):
-    text = (REPO / "README.md").read_text()
+    text = (REPO / "docs" / "pymeshlab.md").read_text()
     match = re.search(r"<!-- pymeshlab-snippet -->\n```python\n(.*?)```", text, re.S)
-    assert match, "README has no pymeshlab snippet"
+    assert match, "docs/pymeshlab.md has no pymeshlab snippet"
     plugin = tmp_path / "build/plugins/meshlab-2025.07/libfilter_straightest_param.so"
     plugin.parent.mkdir(parents=True)
     os.symlink(PLUGIN, plugin)
