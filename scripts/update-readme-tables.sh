@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Rewrites docs/usage.md's parameter and report tables (patch and atlas filters) from their
-# definitions (filter_straightest_param/filter_definition.cpp, core/report.cpp,
+# definitions (filter_straightest_param/filter_definition.cpp, core/common/report.cpp,
 # core/atlas/atlas.cpp). The test suite's readme_tables test fails until they match.
 set -euo pipefail
 cd "$(dirname "$0")/.."
