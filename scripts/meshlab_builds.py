@@ -1,16 +1,21 @@
 #!/usr/bin/env python3
-"""docs/meshlab.md's table of supported MeshLab builds, generated from meshlab-builds.tsv.
+"""docs/meshlab.md's table of supported MeshLab builds and the README's install table, generated
+from meshlab-builds.tsv (and the project's version in CMakeLists.txt).
 
-  python3 scripts/meshlab_builds.py --check   fails, naming the block, when docs/meshlab.md differs
-  python3 scripts/meshlab_builds.py --write   rewrites the block between
-                                              <!-- table:meshlab-builds --> and its end marker
+  python3 scripts/meshlab_builds.py --check   fails, naming the block, when a file differs
+  python3 scripts/meshlab_builds.py --write   rewrites the blocks between
+                                              <!-- table:meshlab-builds --> (docs/meshlab.md),
+                                              <!-- table:install --> (README.md) and their end
+                                              markers
 """
 import argparse
 import pathlib
+import re
 import sys
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 BEGIN, END = "<!-- table:meshlab-builds -->\n", "<!-- /table:meshlab-builds -->"
+INSTALL_BEGIN, INSTALL_END = "<!-- table:install -->\n", "<!-- /table:install -->"
 COLUMNS = ["folder", "version", "api", "scalar", "runs_in", "tarball", "sha256", "deb",
            "root_extras", "users_get_it", "source"]
 API_NAMES = {"mesh_filter_interface": "MeshFilterInterface", "filter_plugin": "FilterPlugin"}
@@ -64,29 +69,50 @@ def markdown():
     return "\n".join(lines) + "\n"
 
 
+def project_version():
+    found = re.search(r"project\(\S+ VERSION (\S+)", (REPO / "CMakeLists.txt").read_text())
+    if not found:
+        sys.exit("meshlab_builds: no project version in CMakeLists.txt")
+    return found.group(1)
+
+
+def install_markdown():
+    """The README's table: one row per MeshLab build that has a Debian package (make-debs.sh)."""
+    lines = ["| your MeshLab | where it comes from | command |", "| --- | --- | --- |"]
+    for b in builds():
+        if b["deb"] != "-":
+            lines.append(f"| {b['version']} | {b['users_get_it']} | `apt install "
+                         f"./straightest-param-{b['deb']}_{project_version()}_amd64.deb` |")
+    return "\n".join(lines) + "\n"
+
+
+def update(path, begin_marker, end_marker, generated, check):
+    text = path.read_text()
+    begin = text.find(begin_marker)
+    end = text.find(end_marker, begin) if begin >= 0 else -1
+    if end < 0:
+        sys.exit(f"meshlab_builds: {path} has no {begin_marker.strip()} ... {end_marker} block")
+    body = begin + len(begin_marker)
+    if text[body:end] == generated:
+        return
+    if check:
+        sys.exit(f"meshlab_builds: the table {begin_marker.strip()} in {path} differs from "
+                 "meshlab-builds.tsv; run python3 scripts/meshlab_builds.py --write")
+    path.write_text(text[:body] + generated + text[end:])
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--doc", default=str(REPO / "docs" / "meshlab.md"),
-                        help="the file holding the table (default docs/meshlab.md)")
+                        help="the file holding the builds table (default docs/meshlab.md)")
+    parser.add_argument("--readme", default=str(REPO / "README.md"),
+                        help="the file holding the install table (default README.md)")
     mode = parser.add_mutually_exclusive_group(required=True)
     mode.add_argument("--check", action="store_true")
     mode.add_argument("--write", action="store_true")
     args = parser.parse_args()
-    path = pathlib.Path(args.doc)
-    text = path.read_text()
-    begin = text.find(BEGIN)
-    end = text.find(END, begin) if begin >= 0 else -1
-    if end < 0:
-        sys.exit(f"meshlab_builds: {path} has no {BEGIN.strip()} ... {END} block")
-    body = begin + len(BEGIN)
-    generated = markdown()
-    if text[body:end] == generated:
-        return
-    if args.check:
-        sys.exit(f"meshlab_builds: the MeshLab builds table in {path} differs from "
-                 "meshlab-builds.tsv; run python3 scripts/meshlab_builds.py --write")
-    path.write_text(text[:body] + generated + text[end:])
-
+    update(pathlib.Path(args.doc), BEGIN, END, markdown(), args.check)
+    update(pathlib.Path(args.readme), INSTALL_BEGIN, INSTALL_END, install_markdown(), args.check)
 
 if __name__ == "__main__":
     main()
