@@ -18,6 +18,7 @@
 #include "core/paper/solve.h"
 #include "core/paper/weights.h"
 #include "core/refine/free_boundary.h"
+#include "core/refine/reweight.h"
 #include "core/refine/stretch_newton.h"
 
 namespace sdp {
@@ -75,22 +76,6 @@ int userSource(const Patch& patch, int input_vertices, int source, bool needs_in
     throw ParameterizationError(
         name + " is on the boundary; the measured boundary needs an interior vertex");
   return local;
-}
-
-// Yoshizawa-Belyaev-Seidel: damp the pull of neighbours that are stretched, a_ij / sigma_j^eta,
-// then renormalize each row. Weights stay positive, so the map stays one-to-one.
-void reweightByStretch(const Patch& patch, const std::vector<double>& vertex_l2, double eta,
-                       std::vector<double>& weights) {
-  for (int v = 0; v < patch.vertexCount(); ++v) {
-    if (patch.on_boundary[v]) continue;
-    double sum = 0;
-    for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) {
-      const double sigma = std::max(vertex_l2[patch.ring_vertex[k]], 1e-6);
-      weights[k] /= std::pow(sigma, eta);
-      sum += weights[k];
-    }
-    for (int k = patch.ring_begin[v]; k < patch.ring_begin[v + 1]; ++k) weights[k] /= sum;
-  }
 }
 
 }  // namespace
