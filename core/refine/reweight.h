@@ -1,6 +1,7 @@
-// The first refinement (docs/method.md, "Solve and refinement"): the paper's weights reweighted by the stretch each
-// vertex's neighbours show, and the map solved again on the same boundary. The loop that repeats
-// it within the work budget is the pipeline's (core/parameterize.cpp, Pipeline::reweight).
+// The first refinement (docs/method.md, "Solve and refinement"): the paper's weights reweighted by
+// the stretch each vertex's neighbours show, and the map solved again on the same boundary. The
+// loop that repeats it within the work budget is the pipeline's (core/parameterize.cpp,
+// Pipeline::reweight).
 #pragma once
 
 #include <vector>
