@@ -600,85 +600,91 @@ Mesh box(int n, double sx, double sy, double sz) {
   return mesh;
 }
 
+// A mesh with its connectivity, its face graph, every face listed and a scratch for them; built
+// in place and never copied, as the graph points into the mesh.
+struct MeshGraph {
+  explicit MeshGraph(Mesh m)
+      : mesh(std::move(m)),
+        connectivity(analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()))),
+        graph(buildFaceGraph(mesh.V, mesh.F, connectivity)),
+        faces(mesh.F.rows()),
+        scratch(graph) {
+    std::iota(faces.begin(), faces.end(), 0);
+  }
+  MeshGraph(const MeshGraph&) = delete;
+  MeshGraph& operator=(const MeshGraph&) = delete;
+  const Mesh mesh;
+  const Connectivity connectivity;
+  const FaceGraph graph;
+  std::vector<int> faces;
+  FaceScratch scratch;
+};
+
 TEST(AtlasCharts, FeaturePatchesFollowSharpEdgesAndAbsorbSmallOnes) {
-  const Mesh mesh = box(6, 1, 2, 3);
-  const Connectivity c = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
-  const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, c);
-  std::vector<int> faces(mesh.F.rows());
-  std::iota(faces.begin(), faces.end(), 0);
-  FaceScratch scratch(graph);
+  MeshGraph m(box(6, 1, 2, 3));
   const double sharp = std::cos(40.0 * M_PI / 180);
-  const auto sides = featurePatches(graph, faces, sharp, 1, scratch);
+  const auto sides = featurePatches(m.graph, m.faces, sharp, 1, m.scratch);
   ASSERT_EQ(sides.size(), 6u);  // one per side of the box, each flat
   for (const auto& side : sides) {
     EXPECT_EQ(side.size(), 72u);
-    for (int f : side) EXPECT_GT(graph.normal[f].dot(graph.normal[side.front()]), 1 - 1e-12);
+    for (int f : side) EXPECT_GT(m.graph.normal[f].dot(m.graph.normal[side.front()]), 1 - 1e-12);
   }
   // Sides smaller than `fewest` join their neighbours: nothing is left alone.
-  const auto joined = featurePatches(graph, faces, sharp, 100, scratch);
+  const auto joined = featurePatches(m.graph, m.faces, sharp, 100, m.scratch);
   EXPECT_LT(joined.size(), 6u);
   size_t total = 0;
   for (const auto& part : joined) total += part.size();
-  EXPECT_EQ(total, faces.size());
-  for (int f : faces) EXPECT_EQ(scratch.region[f], kOutside);
+  EXPECT_EQ(total, m.faces.size());
+  for (int f : m.faces) EXPECT_EQ(m.scratch.region[f], kOutside);
 }
 
 TEST(AtlasCharts, EulerCharacteristicOfRegionsMatchesTheirMesh) {
   // A closed box (2), one side (a disk: 1) and the four sides around it (a ring: 0): the count by
   // the graph's joins, against regionHoles, which builds each region's own mesh.
-  const Mesh mesh = box(6, 1, 2, 3);
-  const Connectivity c = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
-  const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, c);
-  std::vector<int> all(mesh.F.rows());
-  std::iota(all.begin(), all.end(), 0);
-  FaceScratch scratch(graph);
-  EXPECT_EQ(regionEulerCharacteristic(graph, all, scratch), 2);
-  const auto sides = featurePatches(graph, all, std::cos(40.0 * M_PI / 180), 1, scratch);
+  MeshGraph m(box(6, 1, 2, 3));
+  EXPECT_EQ(regionEulerCharacteristic(m.graph, m.faces, m.scratch), 2);
+  const auto sides = featurePatches(m.graph, m.faces, std::cos(40.0 * M_PI / 180), 1, m.scratch);
   ASSERT_EQ(sides.size(), 6u);
-  EXPECT_EQ(regionEulerCharacteristic(graph, sides[0], scratch), 1);
-  EXPECT_EQ(regionHoles(graph, sides[0], scratch), 0);
+  EXPECT_EQ(regionEulerCharacteristic(m.graph, sides[0], m.scratch), 1);
+  EXPECT_EQ(regionHoles(m.graph, sides[0], m.scratch), 0);
   // The four sides that do not face the first one's way or the opposite.
   std::vector<int> ring;
   for (const auto& side : sides)
-    if (std::abs(graph.normal[side[0]].dot(graph.normal[sides[0][0]])) < 0.5)
+    if (std::abs(m.graph.normal[side[0]].dot(m.graph.normal[sides[0][0]])) < 0.5)
       ring.insert(ring.end(), side.begin(), side.end());
   std::sort(ring.begin(), ring.end());
   ASSERT_EQ(ring.size(), 4 * 72u);
-  EXPECT_EQ(regionEulerCharacteristic(graph, ring, scratch), 0);
-  EXPECT_EQ(regionHoles(graph, ring, scratch), 1);
-  for (int f : all) EXPECT_EQ(scratch.region[f], kOutside);
-  for (int v = 0; v < mesh.V.rows(); ++v) EXPECT_EQ(scratch.vertex[v], -1);
+  EXPECT_EQ(regionEulerCharacteristic(m.graph, ring, m.scratch), 0);
+  EXPECT_EQ(regionHoles(m.graph, ring, m.scratch), 1);
+  for (int f : m.faces) EXPECT_EQ(m.scratch.region[f], kOutside);
+  for (int v = 0; v < m.mesh.V.rows(); ++v) EXPECT_EQ(m.scratch.vertex[v], -1);
 }
 
 TEST(AtlasCharts, FlatPatchesSeparateFacesAFilletJoins) {
   // A sheet bent by 60 degrees through a fillet over a fifth of its width (about 10 degrees per
   // edge): no sharp edge, so one feature patch, but the two flat legs face apart.
   const double slope = std::tan(60.0 * M_PI / 180);
-  const Mesh mesh = test::grid(30, 1.0, 1.0, [&](double x, double) {
+  MeshGraph m(test::grid(30, 1.0, 1.0, [&](double x, double) {
     if (x <= 0.4) return 0.0;
     if (x >= 0.6) return slope * (x - 0.5);
     return slope * (x - 0.4) * (x - 0.4) / 0.4;  // the slope grows linearly across the fillet
-  });
-  const Connectivity c = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
-  const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, c);
-  std::vector<int> faces(mesh.F.rows());
-  std::iota(faces.begin(), faces.end(), 0);
-  FaceScratch scratch(graph);
-  EXPECT_EQ(featurePatches(graph, faces, std::cos(40.0 * M_PI / 180), 20, scratch).size(), 1u);
-  const auto flats = flatPatches(graph, faces, std::cos(20.0 * M_PI / 180), 20, scratch);
+  }));
+  EXPECT_EQ(featurePatches(m.graph, m.faces, std::cos(40.0 * M_PI / 180), 20, m.scratch).size(),
+            1u);
+  const auto flats = flatPatches(m.graph, m.faces, std::cos(20.0 * M_PI / 180), 20, m.scratch);
   ASSERT_GE(flats.size(), 2u);
   size_t total = 0;
   for (const auto& patch : flats) {
     total += patch.size();
     bool left = false, right = false;  // a face on each flat leg
     for (int f : patch) {
-      const double x = graph.centroid[f].x();
+      const double x = m.graph.centroid[f].x();
       left |= x<0.35, right |= x> 0.65;
     }
     EXPECT_FALSE(left && right);
   }
-  EXPECT_EQ(total, faces.size());
-  for (int f : faces) EXPECT_EQ(scratch.region[f], kOutside);
+  EXPECT_EQ(total, m.faces.size());
+  for (int f : m.faces) EXPECT_EQ(m.scratch.region[f], kOutside);
 }
 
 TEST(Atlas, ABoxIsUnfoldedAlongItsEdgesWithoutStretch) {
