@@ -30,11 +30,10 @@ EdgeGroups edgeGroups(const Triangles& F) {
   const std::vector<HalfEdgeKey> keys = sortedHalfEdges(F, vertices);
   EdgeGroups groups;
   groups.half_edges.reserve(keys.size());
-  for (size_t i = 0; i < keys.size(); ++i) {
-    if (i == 0 || keys[i].low != keys[i - 1].low || keys[i].high != keys[i - 1].high)
-      groups.begin.push_back(static_cast<int>(i));
-    groups.half_edges.push_back(keys[i].half_edge);
-  }
+  forEachEdgeRun(keys, [&](size_t begin, size_t end) {
+    groups.begin.push_back(static_cast<int>(begin));
+    for (size_t i = begin; i < end; ++i) groups.half_edges.push_back(keys[i].half_edge);
+  });
   groups.begin.push_back(static_cast<int>(keys.size()));
   return groups;
 }

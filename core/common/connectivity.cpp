@@ -77,10 +77,7 @@ class ConnectivityAnalysis {
   // One edge per run of equal keys: one half-edge is a boundary edge, two are twins (the same
   // direction twice: inconsistent orientation), more are a non-manifold edge.
   void pairEdges() {
-    for (size_t i = 0; i < keys_.size();) {
-      size_t j = i;
-      while (j < keys_.size() && keys_[j].low == keys_[i].low && keys_[j].high == keys_[i].high)
-        ++j;
+    forEachEdgeRun(keys_, [&](size_t i, size_t j) {
       edge_groups_.emplace_back(i, j);
       const size_t count = j - i;
       if (count == 1) {
@@ -96,8 +93,7 @@ class ConnectivityAnalysis {
       } else {
         ++c_.non_manifold_edges;
       }
-      i = j;
-    }
+    });
     c_.edges = static_cast<int>(edge_groups_.size());
   }
 
@@ -241,12 +237,9 @@ std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count) {
 std::vector<HalfEdgeKey> borderHalfEdges(const Triangles& F, int vertex_count) {
   std::vector<HalfEdgeKey> keys = sortedHalfEdges(F, vertex_count);
   size_t kept = 0;
-  for (size_t i = 0; i < keys.size();) {
-    size_t j = i;
-    while (j < keys.size() && keys[j].low == keys[i].low && keys[j].high == keys[i].high) ++j;
+  forEachEdgeRun(keys, [&](size_t i, size_t j) {
     if (j - i == 1) keys[kept++] = keys[i];
-    i = j;
-  }
+  });
   keys.resize(kept);
   return keys;
 }

@@ -58,6 +58,17 @@ struct HalfEdgeKey {
 // one edge are neighbours; in linear time (a counting sort on the lower end). `vertex_count`
 // bounds the indices of F.
 std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count);
+// Calls run(begin, end) for each run [begin, end) of the sorted keys that share one edge (equal
+// low and high ends), in order.
+template <class Run>
+void forEachEdgeRun(const std::vector<HalfEdgeKey>& keys, Run&& run) {
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i + 1;
+    while (j < keys.size() && keys[j].low == keys[i].low && keys[j].high == keys[i].high) ++j;
+    run(i, j);
+    i = j;
+  }
+}
 // The half-edges alone on their edge (the faces' border, each as its face runs), in the order of
 // sortedHalfEdges.
 std::vector<HalfEdgeKey> borderHalfEdges(const Triangles& F, int vertex_count);
