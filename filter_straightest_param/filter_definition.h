@@ -1,5 +1,5 @@
 // The filter's one definition, shared by every front end: the MeshLab shims (their dialog, .mlx
-// scripts and pymeshlab), the CLI, and the README's tables. Plain C++ on top of the core (no Qt,
+// scripts and pymeshlab), the CLI, and docs/usage.md's tables. Plain C++ on top of the core (no Qt,
 // MeshLab or vcglib): each front end turns the tables below into its own parameter classes,
 // flags or lines, so none can drift from another.
 #pragma once
@@ -35,7 +35,7 @@ struct FilterValues {
   int checkers;
   int texture_size;
   bool natural_scale;  // CLI: UVs at the solver's scale instead of fitted into [0,1]
-  // The atlas filter only (atlas_definition.h).
+  // The atlas filter only.
   int gutter;         // texels kept free between charts
   int chart_stretch;  // a chart stretched more than 1 + this / 100 (L2) is split
 };
@@ -54,7 +54,7 @@ struct ParameterDescription {
   std::string cli_flag;   // e.g. "--weights"; empty: MeshLab only
   std::string cli_value;  // the value's placeholder in --help, e.g. "W"; empty for a switch
   std::string label;      // MeshLab dialog label
-  std::string help;       // one text for the tooltip, --help and the README
+  std::string help;       // one text for the tooltip, --help and docs/usage.md
   ParameterType type = ParameterType::Int;
   std::vector<Choice> choices;  // Enum only, in order: the value is the index
   int default_int = 0;          // Enum (index), Int, Bool (0/1)
@@ -96,8 +96,9 @@ std::vector<std::string> reportLines(const sdp::Report& report,
 // end words its failures so.
 std::string currentFailureReason();
 
-// The README's tables in Markdown, generated from the tables above (tests/docs checks that the
-// README holds them): "parameters", "report", "atlas-parameters" and "atlas-report".
+// docs/usage.md's tables in Markdown, generated from the tables above (tests/filter's
+// readme_tables checks that docs/usage.md holds them): "parameters", "report", "atlas-parameters"
+// and "atlas-report".
 std::string markdownTable(const std::string& which);
 
 // The atlas filter (core/atlas/atlas.h): its own names and parameter table, so the patch

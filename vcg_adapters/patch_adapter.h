@@ -1,4 +1,4 @@
-// vcglib mesh <-> core (README, Layout: MeshLab -> adapter -> core -> adapter -> MeshLab).
+// vcglib mesh <-> core (docs/architecture.md: MeshLab -> adapter -> core -> adapter -> MeshLab).
 // Numbering: vcg indices (mesh.vert, mesh.face, deleted elements included) <-> core indices
 // (PatchInput: the patch's vertices and faces in vcg order, deleted and unselected left out).
 // Header-only templates on the vcg mesh type, so the same code compiles against the vcglib of

@@ -107,7 +107,7 @@ struct AtlasReport {
 // keys of the JSON report, in this order.
 struct AtlasSummaryField {
   const char* key;
-  const char* meaning;  // for the README
+  const char* meaning;  // for docs/usage.md
   bool integer;
   const char* log_format;  // printf format of the value in the log line
   double (*number)(const AtlasReport&);
@@ -117,7 +117,7 @@ const std::vector<AtlasSummaryField>& atlasSummaryFields();
 // The JSON report's other keys, after the summary's, in this order.
 struct AtlasDetailField {
   const char* key;
-  const char* meaning;  // for the README
+  const char* meaning;  // for docs/usage.md
   std::string (*json)(const AtlasReport&);
 };
 const std::vector<AtlasDetailField>& atlasDetailFields();

@@ -106,7 +106,7 @@ struct Report {
 // the first keys of the JSON report.
 struct ReportField {
   const char* key;      // JSON key, and the pymeshlab dict key of a summary row
-  const char* meaning;  // for the README
+  const char* meaning;  // for docs/usage.md
   bool summary = false;
   bool integer = false;                          // summary rows: an int (else a double)
   const char* log_label = nullptr;               // summary rows: the words before the value

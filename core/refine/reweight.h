@@ -1,4 +1,4 @@
-// The first refinement (docs/method.md, "Solve and refinement"): the paper's weights reweighted by
+// The first refinement (docs/method.md §4): the paper's weights reweighted by
 // the stretch each vertex's neighbours show, and the map solved again on the same boundary. The
 // loop that repeats it within the work budget is the pipeline's (core/parameterize.cpp,
 // Pipeline::reweight).
