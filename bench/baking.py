@@ -102,13 +102,16 @@ def main():
         f"{args.size}² texture. Read back by *Transfer: Texture to Vertex Color*, the colours "
         f"of the {used.sum()} vertices that faces use differ from the originals by "
         f"{difference.mean():.2f} of 255 on average (largest {difference.max():.0f}; the "
-        f"other {len(vertices) - used.sum()} vertices belong to no face). Made by `.venv/bin/python bench/baking.py --doc "
-        "docs/benchmarks.md`.\n\n![vertex colours, the baked texture, the textured mesh]"
-        f"({results_link('baking.png', args.doc or DOC)})\n")
-    (results / "baking.md").write_text(body)
-    print(body)
+        f"other {len(vertices) - used.sum()} vertices belong to no face). Made by "
+        "`.venv/bin/python bench/baking.py --doc "
+        "docs/benchmarks.md`.\n\n![vertex colours, the baked texture, the textured mesh]")
+    # The picture linked from where each file is: beside it in bench/results, ../bench/results
+    # from docs/.
+    (results / "baking.md").write_text(body + "(baking.png)\n")
+    doc_body = body + f"({results_link('baking.png', args.doc or DOC)})\n"
+    print(doc_body)
     if args.doc:
-        args.doc.write_text(replace_block(args.doc.read_text(), "baking", body))
+        args.doc.write_text(replace_block(args.doc.read_text(), "baking", doc_body))
 
 
 if __name__ == "__main__":
