@@ -33,9 +33,8 @@ CODE_SPAN = re.compile(r"(`+).*?\1")
 SCHEME = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*:")
 
 
-def links(text):
-    """(line number, target) of every link outside code in Markdown TEXT."""
-    found = []
+def lines_outside_fences(text):
+    """(line number, line) of every line of Markdown TEXT outside fenced code blocks."""
     fence = None
     for number, line in enumerate(text.splitlines(), 1):
         stripped = line.lstrip()
@@ -46,6 +45,13 @@ def links(text):
         if stripped.startswith("```") or stripped.startswith("~~~"):
             fence = stripped[:3]
             continue
+        yield number, line
+
+
+def links(text):
+    """(line number, target) of every link outside code in Markdown TEXT."""
+    found = []
+    for number, line in lines_outside_fences(text):
         line = CODE_SPAN.sub("", line)
         for pattern in (INLINE, HTML):
             found += [(number, m.group(1)) for m in pattern.finditer(line)]
@@ -77,16 +83,7 @@ def anchors(path, cache={}):
     if path not in cache:
         seen = {}
         result = set()
-        fence = None
-        for line in path.read_text(encoding="utf-8").splitlines():
-            stripped = line.lstrip()
-            if fence:
-                if stripped.startswith(fence):
-                    fence = None
-                continue
-            if stripped.startswith("```") or stripped.startswith("~~~"):
-                fence = stripped[:3]
-                continue
+        for _, line in lines_outside_fences(path.read_text(encoding="utf-8")):
             m = re.match(r"^ {0,3}(#{1,6})\s+(.*?)\s*#*\s*$", line)
             if not m:
                 continue
