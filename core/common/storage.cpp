@@ -146,15 +146,22 @@ class StoredMap {
     return lowest;
   }
 
-  // Tries moving r a fraction of the way to the centroid of its neighbours; keeps the first
-  // (longest) move that raises the smallest margin around r.
-  bool improve(int r) {
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  // The centroid of r's neighbours; false when r has none.
+  bool neighbourCentroid(int r, Eigen::Vector2d& centroid) const {
     const int count = mesh_.neighbour_begin[r + 1] - mesh_.neighbour_begin[r];
     if (count == 0) return false;
+    centroid = Eigen::Vector2d::Zero();
     for (int i = mesh_.neighbour_begin[r]; i < mesh_.neighbour_begin[r + 1]; ++i)
       centroid += uv_[mesh_.neighbour_list[i]];
     centroid /= count;
+    return true;
+  }
+
+  // Tries moving r a fraction of the way to the centroid of its neighbours; keeps the first
+  // (longest) move that raises the smallest margin around r.
+  bool improve(int r) {
+    Eigen::Vector2d centroid;
+    if (!neighbourCentroid(r, centroid)) return false;
     const Eigen::Vector2d origin = uv_[r], origin_text = text_[r];
     const double before = rowMargin(r);
     for (int halvings = 0; halvings <= 6; ++halvings) {
@@ -172,12 +179,8 @@ class StoredMap {
   // keeping the first move that leaves every face around it valid: a border vertex moves into
   // its own faces, away from a border its rounding made it touch.
   bool separate(int r, double fraction) {
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-    const int count = mesh_.neighbour_begin[r + 1] - mesh_.neighbour_begin[r];
-    if (count == 0) return false;
-    for (int i = mesh_.neighbour_begin[r]; i < mesh_.neighbour_begin[r + 1]; ++i)
-      centroid += uv_[mesh_.neighbour_list[i]];
-    centroid /= count;
+    Eigen::Vector2d centroid;
+    if (!neighbourCentroid(r, centroid)) return false;
     const Eigen::Vector2d origin = uv_[r], origin_text = text_[r];
     for (int halvings = 0; halvings <= 6; ++halvings) {
       place(r, origin + std::ldexp(fraction, -halvings) * (centroid - origin));
