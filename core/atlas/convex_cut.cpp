@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <numeric>
 #include <utility>
 
 #include "core/common/connectivity.h"
@@ -35,21 +37,59 @@ double polygonArea(const std::vector<Eigen::Vector2d>& p) {
   return area;
 }
 
-// The polygon clipped to the side {x : side * (normal . x - offset) <= 0} (Sutherland-Hodgman):
-// for a polygon that is not convex the pieces come joined along the line, which leaves their
-// area and their hull right.
-std::vector<Eigen::Vector2d> clip(const std::vector<Eigen::Vector2d>& polygon,
-                                  const std::vector<double>& height, double offset, double side) {
-  std::vector<Eigen::Vector2d> out;
+// The side {x : side * (normal . x - offset) <= 0} of the polygon (Sutherland-Hodgman), point by
+// point to `visit`: for a polygon that is not convex the pieces come joined along the line, which
+// leaves their area and their hull right.
+template <class Visit>
+void clip(const std::vector<Eigen::Vector2d>& polygon, const std::vector<double>& height,
+          double offset, double side, Visit visit) {
   const size_t n = polygon.size();
   for (size_t i = 0; i < n; ++i) {
     const size_t j = (i + 1) % n;
     const double a = side * (height[i] - offset), b = side * (height[j] - offset);
-    if (a <= 0) out.push_back(polygon[i]);
+    if (a <= 0) visit(polygon[i], true);
     if ((a < 0 && b > 0) || (a > 0 && b < 0))
-      out.push_back(polygon[i] + (polygon[j] - polygon[i]) * (a / (a - b)));
+      visit(Eigen::Vector2d(polygon[i] + (polygon[j] - polygon[i]) * (a / (a - b))), false);
   }
-  return out;
+}
+
+// polygonArea of the clipped side, summed in the same order, without building it (most lines
+// tried end at the areas).
+double clippedArea(const std::vector<Eigen::Vector2d>& polygon, const std::vector<double>& height,
+                   double offset, double side) {
+  double area = 0;
+  Eigen::Vector2d first, last;
+  bool any = false;
+  clip(polygon, height, offset, side, [&](const Eigen::Vector2d& p, bool) {
+    if (any) area += 0.5 * (last.x() * p.y() - last.y() * p.x());
+    if (!any) first = p, any = true;
+    last = p;
+  });
+  if (any) area += 0.5 * (last.x() * first.y() - last.y() * first.x());
+  return area;
+}
+
+// hullArea of the clipped side from the polygon's corners in xThenY order (`sorted`): the side's
+// corners are taken from it in that order and the few points on the line merged in, so no hull
+// sorts all its points again.
+double clippedHullArea(const std::vector<Eigen::Vector2d>& polygon, const std::vector<int>& sorted,
+                       const std::vector<double>& height, double offset, double side) {
+  std::vector<Eigen::Vector2d> on_line;
+  clip(polygon, height, offset, side, [&](const Eigen::Vector2d& p, bool corner) {
+    if (!corner) on_line.push_back(p);
+  });
+  std::sort(on_line.begin(), on_line.end(), xThenY);
+  std::vector<Eigen::Vector2d> corners, points;
+  corners.reserve(sorted.size());
+  for (int i : sorted)
+    if (side * (height[i] - offset) <= 0) corners.push_back(polygon[i]);
+  points.reserve(corners.size() + on_line.size());
+  std::merge(corners.begin(), corners.end(), on_line.begin(), on_line.end(),
+             std::back_inserter(points), xThenY);
+  const std::vector<Eigen::Vector2d> hull = convexHullOfSorted(std::move(points));
+  double area = 0;
+  for (size_t i = 2; i < hull.size(); ++i) area += 0.5 * cross(hull[0], hull[i - 1], hull[i]);
+  return area;
 }
 
 }  // namespace
@@ -93,6 +133,10 @@ std::optional<ConvexCut> bestConvexCut(const std::vector<Eigen::Vector2d>& uv,
   const double area = polygonArea(polygon);
   const double hull = hullArea(polygon);
   if (!(area > 0) || !(hull > area)) return std::nullopt;
+  std::vector<int> sorted(polygon.size());
+  std::iota(sorted.begin(), sorted.end(), 0);
+  std::sort(sorted.begin(), sorted.end(),
+            [&](int a, int b) { return xThenY(polygon[a], polygon[b]); });
   constexpr int kDirections = 16, kOffsets = 32;
   std::optional<ConvexCut> best;
   double best_score = 0;
@@ -121,15 +165,15 @@ std::optional<ConvexCut> bestConvexCut(const std::vector<Eigen::Vector2d>& uv,
       if (along.size() != 2) continue;
       const double length = std::abs(along[1] - along[0]);
       if (!(length > 0)) continue;
-      const std::vector<Eigen::Vector2d> below = clip(polygon, height, offset, 1);
-      const std::vector<Eigen::Vector2d> above = clip(polygon, height, offset, -1);
-      const double below_area = polygonArea(below), above_area = polygonArea(above);
+      const double below_area = clippedArea(polygon, height, offset, 1);
+      const double above_area = clippedArea(polygon, height, offset, -1);
       if (below_area < min_share * area || above_area < min_share * area) continue;
       // Each side's hull holds at least its own area, so the gain is at most the hull minus
       // both areas: a line that cannot beat the best even so needs no hulls (the costly part,
       // a sort each). The slack keeps rounding from skipping a line that would win.
       if ((hull - below_area - above_area) / length < best_score * (1 - 1e-9)) continue;
-      const double gain = hull - hullArea(below) - hullArea(above);
+      const double gain = hull - clippedHullArea(polygon, sorted, height, offset, 1) -
+                          clippedHullArea(polygon, sorted, height, offset, -1);
       if (!(gain > 0)) continue;
       const double score = gain / length;
       if (score > best_score) {

@@ -23,10 +23,16 @@ double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Ve
 
 }  // namespace
 
+bool xThenY(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+}
+
 std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points) {
-  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
-  });
+  std::sort(points.begin(), points.end(), xThenY);
+  return convexHullOfSorted(std::move(points));
+}
+
+std::vector<Eigen::Vector2d> convexHullOfSorted(std::vector<Eigen::Vector2d> points) {
   points.erase(std::unique(points.begin(), points.end()), points.end());
   if (points.size() < 3) return points;
   std::vector<Eigen::Vector2d> hull(2 * points.size());

@@ -57,6 +57,10 @@ double uvArea(const std::vector<Eigen::Vector2d>& uv,
 
 // The convex hull of the points, counter-clockwise without repeats (Andrew's monotone chain).
 std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points);
+// The same of points already in xThenY order, without the sort.
+std::vector<Eigen::Vector2d> convexHullOfSorted(std::vector<Eigen::Vector2d> points);
+// The order the hull sorts its points in: by x, then by y.
+bool xThenY(const Eigen::Vector2d& a, const Eigen::Vector2d& b);
 
 // The rotation that lays the chart's smallest bounding rectangle (one side on a hull edge) with
 // its long side along x.
