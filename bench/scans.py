@@ -31,7 +31,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(HERE))
 from atlas import run_with_rusage  # noqa: E402
-from run import replace_block  # noqa: E402
+from run import replace_block, results_link  # noqa: E402
 from scan_meshes import make_scan, write_ply  # noqa: E402
 
 CACHE = pathlib.Path.home() / ".cache" / "straightest-param" / "bench" / "scans"
@@ -62,7 +62,7 @@ def scan_file(shared, name, source, subdivisions, holes, debris, sigma):
     return path
 
 
-def run_ours(args, mesh, folder):
+def run_ours(args, mesh, folder, picture=None):
     out = folder / "ours.ply"
     report_path = folder / "ours.json"
     command = [str(args.build / "bin" / "straightest_param"), str(mesh), str(out), "--atlas",
@@ -90,6 +90,10 @@ def run_ours(args, mesh, folder):
         row["failed"] = "scorer: " + score.stderr.strip()[:150]
         return row
     row["scored"] = json.loads(score.stdout)
+    if picture:
+        from scan_picture import picture as draw
+        draw(out, picture[0], picture[1])
+        row["picture"] = picture[0]
     out.unlink()  # hundreds of MB at the big sizes
     return row
 
@@ -154,12 +158,21 @@ def main():
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     held_out = []
     charts = {}
+    pictures = []
+    # The largest mesh run, with noise, is pictured (checkerboard and UV layout).
+    pictured = max(meshes, key=lambda m: m[2])[0]
     for name, source, subdivisions, holes, debris, out_of_tuning in meshes:
         for sigma in SIGMAS:
             mesh = scan_file(args.shared, name, source, subdivisions, holes, debris, sigma)
             folder = work / f"{name.replace(' ', '_')}_s{sigma:g}"
             folder.mkdir(parents=True, exist_ok=True)
-            row = run_ours(args, mesh, folder)
+            picture = None
+            if name == pictured and sigma > 0:
+                picture = (HERE / "results" / f"scans_{name.replace(' ', '_')}.png",
+                           f"{name}, noise σ = {sigma:g} x the mean edge")
+            row = run_ours(args, mesh, folder, picture)
+            if "picture" in row:
+                pictures.append((name, sigma, row["picture"]))
             charts[(name, sigma)] = row.get("charts")
             line = fmt_row(name, sigma, row)
             print(line, flush=True)
@@ -189,9 +202,18 @@ def main():
         said = "stopped at the 20-minute limit" if code == -9 else (
             f"{wall:.0f} s, exit {code}")
         lines += ["", f"xatlas 0.0.11 on {name} with noise: {said}."]
-    body = "\n".join(lines)
+    def with_pictures(link):
+        """The lines, then each picture linked by `link(file name)`."""
+        out = list(lines)
+        for name, sigma, png in pictures:
+            out += ["", f"The atlas of {name} with noise σ = {sigma:g}: its checkerboard and its "
+                    "UV layout, each chart in a colour of its own:", "",
+                    f"![{name}]({link(png.name)})"]
+        return "\n".join(out)
+
     results = HERE / "results"
     results.mkdir(exist_ok=True)
+    body = with_pictures(lambda name: name)  # bench/results/scans.md sits beside its pictures
     (results / "scans.md").write_text(body + "\n")
     print(body)
     if args.doc:
@@ -199,6 +221,7 @@ def main():
         text = doc.read_text()
         if "<!-- bench:scans -->" not in text:
             sys.exit(f"scans.py: {doc} has no <!-- bench:scans --> block")
+        body = with_pictures(lambda name: results_link(name, args.doc))
         doc.write_text(replace_block(text, "scans", body))
 
 

@@ -219,17 +219,23 @@ Footprint footprint(const std::vector<Eigen::Vector2d>& p,
           crossings.emplace_back(c, a.y() + (b.y() - a.y()) * (line - a.x()) / (b.x() - a.x()));
       }
     }
-    std::sort(crossings.begin(), crossings.end());
-    for (size_t i = 0; i + 1 < crossings.size();) {
-      size_t j = i;
-      while (j < crossings.size() && crossings[j].first == crossings[i].first) ++j;
-      for (size_t k = i; k + 1 < j; k += 2) {
-        const int y0 = std::max(0, static_cast<int>(std::floor(crossings[k].second)));
-        const int y1 =
-            std::min(fp.height - 1, static_cast<int>(std::floor(crossings[k + 1].second)));
-        if (y0 <= y1) addSpan(crossings[i].first, y0, y1);
+    // Per column its crossings in y order: bucketed by column, then each column sorted (one
+    // sort of every crossing by (column, y) was a third of a small part's footprint).
+    std::vector<int> start(fp.width + 1, 0);
+    for (const auto& [column, y] : crossings) ++start[column + 1];
+    for (int c = 0; c < fp.width; ++c) start[c + 1] += start[c];
+    std::vector<double> along(crossings.size());
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (const auto& [column, y] : crossings) along[fill[column]++] = y;
+    }
+    for (int c = 0; c < fp.width; ++c) {
+      std::sort(along.begin() + start[c], along.begin() + start[c + 1]);
+      for (int k = start[c]; k + 1 < start[c + 1]; k += 2) {
+        const int y0 = std::max(0, static_cast<int>(std::floor(along[k])));
+        const int y1 = std::min(fp.height - 1, static_cast<int>(std::floor(along[k + 1])));
+        if (y0 <= y1) addSpan(c, y0, y1);
       }
-      i = j;
     }
   } else {
     for (const auto& t : triangles) {
