@@ -106,9 +106,9 @@ const Eigen::Matrix2d& quarterTurn(int q) {
 // Cell runs [low, high] per column, sorted and disjoint.
 using Runs = std::vector<std::pair<int, int>>;
 
-// Sorts runs[first, end) and merges those that overlap or touch, in place; returns the new end.
-size_t mergeRunsFrom(Runs& runs, size_t first) {
-  std::sort(runs.begin() + first, runs.end());
+// Merges the runs of runs[first, end), already sorted, that overlap or touch, in place;
+// returns the new end.
+size_t joinTouchingFrom(Runs& runs, size_t first) {
   size_t kept = first;
   for (size_t i = first; i < runs.size(); ++i)
     if (kept > first && runs[i].first <= runs[kept - 1].second + 1)
@@ -119,9 +119,18 @@ size_t mergeRunsFrom(Runs& runs, size_t first) {
   return kept;
 }
 
-// Sorts and merges runs that overlap or touch.
-void mergeRuns(Runs& runs) {
-  mergeRunsFrom(runs, 0);
+// Sorts runs[first, end) and merges those that overlap or touch, in place; returns the new end.
+size_t mergeRunsFrom(Runs& runs, size_t first) {
+  // A column's runs are few (a footprint's grown column gathers 2 x gutter - 1 columns of one or
+  // two runs each): an insertion sort, without std::sort's set-up for each. Either sort gives
+  // the same order, the runs being compared whole.
+  if (runs.size() - first <= 16) {
+    for (size_t i = first + 1; i < runs.size(); ++i)
+      for (size_t j = i; j > first && runs[j] < runs[j - 1]; --j) std::swap(runs[j], runs[j - 1]);
+  } else {
+    std::sort(runs.begin() + first, runs.end());
+  }
+  return joinTouchingFrom(runs, first);
 }
 
 // Runs per column in one array, as a footprint's are: column i's are runs[begin[i] ..
@@ -145,25 +154,48 @@ struct ColumnRuns {
 
   // Ends the next column: the runs appended since the last one, sorted and merged.
   void closeColumn() { begin.push_back(static_cast<int>(mergeRunsFrom(runs, begin.back()))); }
+  // No columns, the memory kept for the next footprint.
+  void clear() {
+    begin.assign(1, 0);
+    runs.clear();
+  }
 };
 
-// Runs given as (column, low, high) in any order, per column.
-ColumnRuns byColumn(int columns, const std::vector<std::array<int, 3>>& spans) {
-  std::vector<int> start(columns + 1, 0);
+// A footprint's temporaries, kept per thread: the packer builds four footprints per chart and
+// scale tried, and allocating them anew each time (megabytes for a chart across a 4096 texture)
+// cost page faults for a seventh of a small part's packing.
+struct FootprintScratch {
+  std::vector<std::array<int, 3>> spans;          // (column, low, high)
+  std::vector<std::pair<int, double>> crossings;  // (column, y)
+  std::vector<double> along;
+  std::vector<int> start, fill;
+  std::vector<std::pair<int, int>> sorted;
+};
+FootprintScratch& footprintScratch() {
+  thread_local FootprintScratch scratch;
+  return scratch;
+}
+
+// Runs given as (column, low, high) in any order, per column, into `out`.
+void byColumn(int columns, const std::vector<std::array<int, 3>>& spans, ColumnRuns& out) {
+  FootprintScratch& scratch = footprintScratch();
+  std::vector<int>& start = scratch.start;
+  start.assign(columns + 1, 0);
   for (const auto& s : spans) ++start[s[0] + 1];
   for (int c = 0; c < columns; ++c) start[c + 1] += start[c];
-  std::vector<std::pair<int, int>> sorted(spans.size());
+  std::vector<std::pair<int, int>>& sorted = scratch.sorted;
+  sorted.resize(spans.size());
   {
-    std::vector<int> fill(start.begin(), start.end() - 1);
+    std::vector<int>& fill = scratch.fill;
+    fill.assign(start.begin(), start.end() - 1);
     for (const auto& s : spans) sorted[fill[s[0]]++] = {s[1], s[2]};
   }
-  ColumnRuns out;
+  out.clear();
   out.runs.reserve(spans.size());
   for (int c = 0; c < columns; ++c) {
     out.runs.insert(out.runs.end(), sorted.begin() + start[c], sorted.begin() + start[c + 1]);
     out.closeColumn();
   }
-  return out;
 }
 
 // A chart at one scale and turn, as the packer sees it: per cell column the runs of cells it
@@ -182,17 +214,20 @@ struct Footprint {
 // boundary `loop` (a simple polygon: the chart is one-to-one), only its edges are rastered, and
 // the cells between them in a column are those whose centre line lies inside (a cell that
 // touches the chart either meets its border or is inside it): the cost follows the border.
-Footprint footprint(const std::vector<Eigen::Vector2d>& p,
-                    const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& loop,
-                    double margin, int reach, int size) {
-  Footprint fp;
+// Built into `fp`, whose memory is reused.
+void footprint(const std::vector<Eigen::Vector2d>& p,
+               const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& loop,
+               double margin, int reach, int size, Footprint& fp) {
+  fp.cells.clear();
+  fp.grown.clear();
+  fp.base = Eigen::Vector2d::Zero();
   fp.reach = reach;
   const auto [low, high] = boundsOf(p);
   // Larger than the texture (or not finite): it cannot be placed, and is not rastered.
   const Eigen::Vector2d extent = high - low;
   if (!(extent.maxCoeff() < size)) {
     fp.width = fp.height = size + 1;
-    return fp;
+    return;
   }
   fp.base = (low - Eigen::Vector2d::Constant(margin)).array().floor();
   fp.width = static_cast<int>(std::floor(high.x() + margin - fp.base.x())) + 1;
@@ -202,10 +237,13 @@ Footprint footprint(const std::vector<Eigen::Vector2d>& p,
     const Eigen::Vector2d r = p[v] - fp.base;
     return Eigen::Vector2d(r.y(), r.x());
   };
-  std::vector<std::array<int, 3>> spans;  // (column, low, high)
+  FootprintScratch& scratch = footprintScratch();
+  std::vector<std::array<int, 3>>& spans = scratch.spans;
+  spans.clear();
   auto addSpan = [&](int x, int y0, int y1) { spans.push_back({x, y0, y1}); };
   if (loop.size() >= 3) {
-    std::vector<std::pair<int, double>> crossings;  // (column, y)
+    std::vector<std::pair<int, double>>& crossings = scratch.crossings;
+    crossings.clear();
     for (size_t i = 0; i < loop.size(); ++i) {
       const Eigen::Vector2d a = p[loop[i]] - fp.base, b = p[loop[(i + 1) % loop.size()]] - fp.base;
       conservativeSegmentSpans(transposed(loop[i]), transposed(loop[(i + 1) % loop.size()]), margin,
@@ -221,12 +259,15 @@ Footprint footprint(const std::vector<Eigen::Vector2d>& p,
     }
     // Per column its crossings in y order: bucketed by column, then each column sorted (one
     // sort of every crossing by (column, y) was a third of a small part's footprint).
-    std::vector<int> start(fp.width + 1, 0);
+    std::vector<int>& start = scratch.start;
+    start.assign(fp.width + 1, 0);
     for (const auto& [column, y] : crossings) ++start[column + 1];
     for (int c = 0; c < fp.width; ++c) start[c + 1] += start[c];
-    std::vector<double> along(crossings.size());
+    std::vector<double>& along = scratch.along;
+    along.resize(crossings.size());
     {
-      std::vector<int> fill(start.begin(), start.end() - 1);
+      std::vector<int>& fill = scratch.fill;
+      fill.assign(start.begin(), start.end() - 1);
       for (const auto& [column, y] : crossings) along[fill[column]++] = y;
     }
     for (int c = 0; c < fp.width; ++c) {
@@ -243,7 +284,7 @@ Footprint footprint(const std::vector<Eigen::Vector2d>& p,
       conservativeSpans(q, margin, fp.height, fp.width, addSpan);
     }
   }
-  fp.cells = byColumn(fp.width, spans);
+  byColumn(fp.width, spans, fp.cells);
   // Grown: column j gathers the runs of columns j - 2 reach ... j, each widened by reach.
   fp.grown.runs.reserve(fp.cells.runs.size() * (2 * reach + 1));
   for (int j = 0; j < fp.width + 2 * reach; ++j) {
@@ -251,7 +292,6 @@ Footprint footprint(const std::vector<Eigen::Vector2d>& p,
       for (const auto& [lo, hi] : fp.cells[i]) fp.grown.runs.emplace_back(lo - reach, hi + reach);
     fp.grown.closeColumn();
   }
-  return fp;
 }
 
 // The texture's occupied cells (grown by the gutter) as runs per column.
@@ -298,11 +338,15 @@ class Occupancy {
       const int column = x + j - fp.reach;
       if (column < 0 || column >= static_cast<int>(columns_.size())) continue;
       Runs& runs = columns_[column];
+      const size_t before = runs.size();
       for (const auto& [lo, hi] : fp.grown[j]) {
         runs.emplace_back(y + lo, y + hi);
         top_ = std::max(top_, y + hi + 1 - fp.reach);
       }
-      mergeRuns(runs);
+      // Both the column's runs and the chart's are sorted: merged in order, not sorted anew
+      // (a full column's sort per chart placed); the same runs either way.
+      std::inplace_merge(runs.begin(), runs.begin() + before, runs.end());
+      joinTouchingFrom(runs, 0);
     }
   }
   int top() const { return top_; }  // one above the highest chart cell
@@ -410,7 +454,7 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const std::
     // A quarter turn (x, y) -> (-y, x) is exact in floating point.
     for (int t = 0; t < turn; ++t)
       for (Eigen::Vector2d& v : q) v = Eigen::Vector2d(-v.y(), v.x());
-    turned[turn] = footprint(q, chart.triangles, loop, options.margin, reach, size);
+    footprint(q, chart.triangles, loop, options.margin, reach, size, turned[turn]);
   };
   std::once_flag built[4];
   auto scanSlice = [&](int task) {
@@ -473,6 +517,7 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
   const int reach = std::max(options.gutter - 1, 0);
   Occupancy occupancy(size);
   const int n = static_cast<int>(order.size());
+  Footprint turned[4];  // the charts' in turn, their memory reused
   for (int placed = 0; placed < n; ++placed) {
     const int c = order[placed];
     // A few calls per pack: enough for a progress bar to move during a long one.
@@ -484,7 +529,6 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
     if (diagonalFits(extent[c], scale, size)) frame = rotationBy(kPi / 4) * box[c];
     std::vector<Eigen::Vector2d> p(charts[c].uv.size());
     for (size_t i = 0; i < p.size(); ++i) p[i] = frame * charts[c].uv[i] * scale;
-    Footprint turned[4];
     const Spot best = lowestSpot(occupancy, charts[c], loops[c], p, options, reach, turned);
     const Footprint& chosen = turned[best.turn];
     if (best.top == INT_MAX) return INT_MAX;
@@ -640,6 +684,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
                                 " texel texture with a " + std::to_string(options.gutter) +
                                 " texel gutter");
   packing.texels_per_unit = fits;
+  footprintScratch() = FootprintScratch{};  // the caller's thread (MeshLab's) keeps no megabytes
   return packing;
 }
 
