@@ -84,6 +84,7 @@ def run_ours(args, mesh, folder, picture=None):
                                         "seconds", "faces", "components")})
     row["stage_seconds"] = report.get("stage_seconds", {})
     row["progress_gaps"] = progress_gaps(err)
+    (folder / "progress.log").write_text(err)  # to find where the bar waits
     score = subprocess.run([str(args.build / "bin" / "sdp_atlas_score"), str(out),
                             str(args.texture_size), "2"], capture_output=True, text=True)
     if score.returncode != 0:
