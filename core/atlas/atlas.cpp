@@ -323,6 +323,7 @@ class AtlasBuilder {
       for (int k = 0; k < 3; ++k)
         edge_sum += (V_.row(F_(f, k)) - V_.row(F_(f, (k + 1) % 3))).norm(), ++edge_count;
     }
+    report(kConnectivityPercent + 1);  // a call, not a move: each loop above is seconds at 13M
     if (edge_count == 0)
       throw ParameterizationError("every face has zero area (no surface to flatten)");
     const double mean_edge = edge_sum / edge_count;
@@ -368,11 +369,13 @@ class AtlasBuilder {
 
   // The progress bar, in percent where each stage starts: the connectivity, the first cut
   // (counted in faces), the charts' rounds (by faces flattened, then charts decided), merging
-  // (by faces flattened of its budget), the packing tries (by charts placed; packAndStore), storage
-  // and measures. Shares near the stages' time at a million faces and more (`stage_seconds`), so
-  // the bar moves every few seconds there.
-  static constexpr int kConnectivityPercent = 2, kCutPercent = 4, kFlattenPercent = 14,
-                       kMergePercent = 58, kPackPercent = 68, kStorePercent = 90,
+  // (by faces flattened of its budget), the packing tries (by charts placed, weighed by their
+  // size; packAndStore), storage and measures. Shares near the stages' time on the scans bench's
+  // 5.47M- and 13.6M-face scans with noise (`stage_seconds`: cut 13 and 18 %, charts 42 and
+  // 32 %, merging 14 and 17 %, packing 20 and 23 %), so that at about 5M faces the bar moves
+  // every two seconds or less (bench/scans.py's progress column).
+  static constexpr int kConnectivityPercent = 2, kCutPercent = 4, kFlattenPercent = 18,
+                       kMergePercent = 54, kPackPercent = 69, kStorePercent = 91,
                        kMeasurePercent = 96;
 
   // Calls the user's progress callback when the percentage moved, or a second after the last
@@ -673,14 +676,15 @@ class AtlasBuilder {
                                    int& charted_faces) {
     std::vector<char> disk(pieces.size(), 0);
     std::vector<std::vector<std::vector<int>>> cut(pieces.size());
-    // Before the first flattening the bar follows the cut, in faces: the disk test, the seeds
-    // and three growths over every face in the worst case. The longest piece's cut takes the
-    // longest: it runs on the calling thread, which alone may call the progress callback.
+    // Before the first flattening the bar follows the cut, in faces: the disk test (counted as
+    // half the faces: it took a tenth of the cut of the 5.47M-face scan), the seeds and three
+    // growths over every face in the worst case. The longest piece's cut takes the longest: it
+    // runs on the calling thread, which alone may call the progress callback.
     std::atomic<long long> grown{0};
     double expected = 0;
     int largest = 0;
     for (size_t i = 0; i < pieces.size(); ++i) {
-      expected += 5.0 * static_cast<double>(pieces[i].faces.size());
+      expected += 4.5 * static_cast<double>(pieces[i].faces.size());
       if (pieces[i].faces.size() > pieces[largest].faces.size()) largest = static_cast<int>(i);
     }
     const bool first = last_percent_ < kFlattenPercent;
@@ -695,7 +699,7 @@ class AtlasBuilder {
           if (faces.size() == 1) return;
           disk[i] = isDisk(graph, faces, scratch);
           if (disk[i]) return;
-          growth(static_cast<int>(faces.size()));
+          growth(static_cast<int>(faces.size() / 2));
           cut[i] = cutIntoDisks(graph, faces, scratch, growth);
         },
         largest);
@@ -952,15 +956,19 @@ class AtlasBuilder {
     // The scale search's tries get shares of the bar's room for packing: at a million faces
     // and more it takes two or three (pack.cpp), each about as long as the others; later tries
     // halve what is left.
-    pack.progress = [this](int placed, int n, int attempt) {
+    // A later try places the same charts in the same order as the one before, at another
+    // scale: its share moves as that try's clock did (the bar only; the packing counts no time).
+    auto timeline = std::make_shared<PackTimeline>();
+    pack.progress = [this, timeline](double done, int attempt) {
       double from = 0, to = 0.45;  // of the room
       for (int a = 0; a < attempt; ++a) from = to, to = a == 0 ? 0.8 : to + 0.5 * (1 - to);
-      const double part = from + (to - from) * placed / std::max(n, 1);
+      const double part = from + (to - from) * timeline->timeDone(done, attempt);
       report(kPackPercent + static_cast<int>((kStorePercent - kPackPercent) * part));
     };
     for (int attempt = 0;; ++attempt) {
       auto stage = Clock::now();
       const Packing packing = packCharts(shapes, pack);
+      report(kStorePercent - 1);  // the layout of millions of faces takes seconds
       Layout layout = packedLayout(shapes, packing);
       addToStage(r.stage_seconds, "pack", secondsSince(stage));
       report(kStorePercent);
@@ -992,6 +1000,28 @@ class AtlasBuilder {
     }
   }
 
+  // The progress of packing tries: `done` as the packer counts it, turned into the share of the
+  // try's time the last try had taken at that point, when there was one.
+  struct PackTimeline {
+    int attempt = -1;
+    Clock::time_point start;
+    std::vector<std::pair<double, double>> current, previous;  // (done, seconds into the try)
+    double timeDone(double done, int try_number) {
+      if (try_number != attempt) {
+        previous = std::move(current);
+        current.clear();
+        attempt = try_number;
+        start = Clock::now();
+      }
+      current.emplace_back(done, secondsSince(start));
+      if (previous.size() < 2 || !(previous.back().second > 0)) return done;
+      const auto at =
+          std::lower_bound(previous.begin(), previous.end(), std::make_pair(done, -1.0));
+      return std::min(
+          1.0, (at == previous.end() ? previous.back() : *at).second / previous.back().second);
+    }
+  };
+
   Layout packedLayout(const std::vector<ChartShape>& shapes, const Packing& packing) const {
     Layout layout;
     int rows = 0;
@@ -1020,12 +1050,13 @@ class AtlasBuilder {
     report(kMeasurePercent);
     const auto stage = Clock::now();
     const StretchMetrics stretch = layoutStretch(V_, F_, layout);
-    report(kMeasurePercent + 2);
+    report(kMeasurePercent + 1);
     if (stretch.flipped_faces > 0)
       throw ParameterizationError("internal error: the stored atlas has flipped faces");
     // The stretch is the one above, by the atlas's own charts; store() certified the pixels.
-    const AtlasMeasures measures =
-        measureLayout(V_, F_, layout, [this] { report(kMeasurePercent + 3); });
+    int measure_step = 0;  // three steps, seconds apart at 13M faces
+    const AtlasMeasures measures = measureLayout(
+        V_, F_, layout, [&] { report(kMeasurePercent + 1 + std::min(++measure_step, 2)); });
     r.charts = static_cast<int>(charts_.size());
     r.seam = measures.seam;
     r.packing_efficiency = measures.efficiency;
@@ -1099,14 +1130,16 @@ AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions
   try {
     const Clock::time_point start = Clock::now();
     // The bar starts before the connectivity, which takes seconds at millions of faces, and
-    // moves within it (to 1 %; the builder starts at 2 %).
+    // moves within it (to 2 %, where the builder starts).
     auto call = [&](int percent) {
       if (options.chart.progress && !options.chart.progress("atlas", percent))
         throw ParameterizationError("cancelled by the user");
     };
     call(0);
     checkInput(V, F, options);
-    const std::function<void()> step = [&] { call(1); };
+    call(0);  // a call, not a move: the input's check takes a second or two at 13M faces
+    int steps = 0;
+    const std::function<void()> step = [&] { call(std::min(++steps, 2)); };
     const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()), step);
     if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
       return atlasOfTurnedFaces(V, F, options, connectivity, start, step);

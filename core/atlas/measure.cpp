@@ -268,6 +268,7 @@ AtlasMeasures measureLayout(const Positions& V, const Triangles& F, const Layout
     if (cut) seam += (V.row(a) - V.row(b)).norm();
   }
   m.seam = area3d > 0 ? seam / std::sqrt(area3d) : 0;
+  if (step) step();
 
   std::vector<double> chart_area(m.charts, 0.0);
   double uv_area = 0;

@@ -518,10 +518,17 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
   Occupancy occupancy(size);
   const int n = static_cast<int>(order.size());
   Footprint turned[4];  // the charts' in turn, their memory reused
+  double total_weight = 0, placed_weight = 0;
+  auto weight = [&](int c) { return std::sqrt(static_cast<double>(charts[c].uv.size())); };
+  for (int c : order) total_weight += weight(c);
   for (int placed = 0; placed < n; ++placed) {
     const int c = order[placed];
     // A few calls per pack: enough for a progress bar to move during a long one.
-    if (options.progress && placed % 16 == 0) options.progress(placed, n, attempt);
+    if (options.progress && placed % 16 == 0)
+      options.progress(0.25 * placed_weight / std::max(total_weight, 1.0) +
+                           0.75 * static_cast<double>(placed) / n,
+                       attempt);
+    placed_weight += weight(c);
     // A chart too long for the texture along its rectangle's sides may fit across its diagonal:
     // turned by 45 degrees (the footprint is its cells, not its rectangle, so the corners it
     // leaves stay free for others).

@@ -46,9 +46,12 @@ struct PackOptions {
   // Largest scale tried, relative to the one where the charts' area fills the square: a scale
   // is accepted only below this.
   double shrink = 1.0;
-  // Called on the calling thread as charts are placed: `placed` of `charts` in the `attempt`-th
-  // pack (from 0) of the scale search; may be empty.
-  std::function<void(int placed, int charts, int attempt)> progress;
+  // Called on the calling thread as charts are placed: `done`, from 0 to 1, of the `attempt`-th
+  // pack (from 0) of the scale search; may be empty. Half of it counts charts, half weighs each
+  // by the square root of its texture coordinates: a chart's search costs a part that follows
+  // its border and a part that does not, and the large charts come first (by count alone the
+  // bar waited 3 s at the start of a pack of 4735 charts, by border alone at its end).
+  std::function<void(double done, int attempt)> progress;
 };
 
 // The area the triangles cover in the plane (each counted positive).

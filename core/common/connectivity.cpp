@@ -48,6 +48,7 @@ class ConnectivityAnalysis {
       if (step) step();
     };
     countVertices();
+    stepped();  // a step every second or two at 13M faces, for a front end's progress bar
     sortEdges();
     stepped();
     pairEdges();
