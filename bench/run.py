@@ -14,12 +14,14 @@ import json
 import math
 import os
 import pathlib
-import re
 import subprocess
 import sys
 import tempfile
 
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "scripts"))
+from marked_block import replace_between  # noqa: E402
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SHARED = pathlib.Path(os.environ.get("SDP_SHARED_DIR", REPO.parent / "shared"))
@@ -373,10 +375,11 @@ def results_link(name, doc=DOC):
 
 
 def replace_block(text, name, body):
-    pattern = re.compile(rf"(<!-- bench:{name} -->\n).*?(<!-- /bench:{name} -->)", re.S)
-    if not pattern.search(text):
-        return text
-    return pattern.sub(lambda m: m.group(1) + body + "\n" + m.group(2), text)
+    """`text` with its <!-- bench:NAME --> block's body replaced by `body` (a file without the
+    block is left as it is)."""
+    replaced = replace_between(text, f"<!-- bench:{name} -->\n", f"<!-- /bench:{name} -->",
+                               body + "\n")
+    return text if replaced is None else replaced
 
 
 def main():

@@ -26,6 +26,9 @@ import pathlib
 import statistics
 import sys
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "scripts"))
+from marked_block import update_block  # noqa: E402
+
 REPO = pathlib.Path(__file__).resolve().parent.parent
 RESULTS = REPO / "bench" / "results"
 BEGIN, END = "<!-- bench:peers -->\n", "<!-- /bench:peers -->"
@@ -122,21 +125,10 @@ def markdown(doc):
 def update(path=REPO / "README.md", check=False):
     """Writes the table into PATH's block (check: only compares, and exits naming the block
     when it differs). Returns whether the block was already as generated."""
-    path = pathlib.Path(path)
-    text = path.read_text()
-    begin = text.find(BEGIN)
-    end = text.find(END, begin) if begin >= 0 else -1
-    if end < 0:
-        sys.exit(f"summary: {path} has no {BEGIN.strip()} ... {END} block")
-    body = begin + len(BEGIN)
-    generated = markdown(path)
-    if text[body:end] == generated:
-        return True
-    if check:
-        sys.exit(f"summary: the peers table in {path} differs from bench/results/quality.csv and "
-                 "atlas.csv; run python3 bench/summary.py --write")
-    path.write_text(text[:body] + generated + text[end:])
-    return False
+    return update_block(path, BEGIN, END, markdown(pathlib.Path(path)), check,
+                        f"summary: the peers table in {path} differs from "
+                        "bench/results/quality.csv and atlas.csv; run python3 bench/summary.py "
+                        "--write")
 
 
 def main():

@@ -13,6 +13,8 @@ import pathlib
 import re
 import sys
 
+from marked_block import update_block
+
 REPO = pathlib.Path(__file__).resolve().parent.parent
 BEGIN, END = "<!-- table:meshlab-builds -->\n", "<!-- /table:meshlab-builds -->"
 INSTALL_BEGIN, INSTALL_END = "<!-- table:install -->\n", "<!-- /table:install -->"
@@ -87,18 +89,9 @@ def install_markdown():
 
 
 def update(path, begin_marker, end_marker, generated, check):
-    text = path.read_text()
-    begin = text.find(begin_marker)
-    end = text.find(end_marker, begin) if begin >= 0 else -1
-    if end < 0:
-        sys.exit(f"meshlab_builds: {path} has no {begin_marker.strip()} ... {end_marker} block")
-    body = begin + len(begin_marker)
-    if text[body:end] == generated:
-        return
-    if check:
-        sys.exit(f"meshlab_builds: the table {begin_marker.strip()} in {path} differs from "
+    update_block(path, begin_marker, end_marker, generated, check,
+                 f"meshlab_builds: the table {begin_marker.strip()} in {path} differs from "
                  "meshlab-builds.tsv; run python3 scripts/meshlab_builds.py --write")
-    path.write_text(text[:body] + generated + text[end:])
 
 
 def main():
