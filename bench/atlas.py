@@ -565,7 +565,7 @@ def main():
             doc_picture_lines.append(f"![{model}: each method's checkerboard and UV layout]"
                                      f"({results_link(png.name, args.doc)})")
         picture_lines.append(f"![{model}: each method's checkerboard and UV layout]"
-                             f"(bench/results/{png.name})")
+                             f"({png.name})")  # atlas*.md sits beside its pictures
     keys = sorted({k for r in csv_rows for k in r})
     with open(results / f"{prefix}.csv", "w", newline="") as out:
         writer = csv.DictWriter(out, fieldnames=keys)

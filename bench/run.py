@@ -402,8 +402,10 @@ def main():
     write_csv(RESULTS / "scaling.csv", scale_rows)
     blocks["scaling"] = scaling_markdown(scale_rows)
     plot(scale_rows, RESULTS / "scaling.png")
+    # The blocks link to bench/results/ from DOC's folder; the results files sit in it.
+    from_doc = os.path.relpath(RESULTS, DOC.parent) + "/"
     for name, body in blocks.items():
-        (RESULTS / f"{name}.md").write_text(body + "\n")
+        (RESULTS / f"{name}.md").write_text(body.replace(f"]({from_doc}", "](") + "\n")
         print(f"\n## {name}\n{body}")
     if not args.quick:
         text = DOC.read_text()

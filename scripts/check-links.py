@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""Checks that every relative link in the project's Markdown resolves: README.md, docs/*.md and
-core/'s READMEs by default, or the files given. A link resolves when the file or folder it names exists
-(relative to the file that holds it) and, when it has a #fragment into a Markdown file, that
+"""Checks that every relative link in the project's Markdown resolves: README.md, docs/*.md,
+core/'s READMEs and the benches' results (bench/results/*.md) by default, or the files given. A
+link resolves when the file or folder it names exists (relative to the file that holds it) and,
+when it has a #fragment into a Markdown file, that
 file has a heading with that anchor (GitHub's: lower case, punctuation dropped, spaces to
 hyphens, -1, -2, ... for repeats). Links with a scheme (https:, mailto:) are not checked, nor
 anything inside code (fenced blocks and `spans`).
 
-  python3 scripts/check-links.py                 README.md, docs/*.md and core/**/README.md here
+  python3 scripts/check-links.py                 README.md, docs/*.md, core/**/README.md and
+                                                 bench/results/*.md here
   python3 scripts/check-links.py FILE.md ...     those files
   python3 scripts/check-links.py --inside DIR FILE.md ...
                                                  also fails a link that leaves DIR (an installed
@@ -122,12 +124,13 @@ def broken(path, inside=None):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("files", nargs="*", help="default: README.md, docs/*.md, core/**/README.md")
+    parser.add_argument("files", nargs="*", help="default: README.md, docs/*.md, core/**/README.md, bench/results/*.md")
     parser.add_argument("--inside", help="also fail links that leave this folder")
     args = parser.parse_args()
     files = ([pathlib.Path(f) for f in args.files] or
              [REPO / "README.md"] + sorted((REPO / "docs").glob("*.md")) +
-             sorted((REPO / "core").glob("**/README.md")))
+             sorted((REPO / "core").glob("**/README.md")) +
+             sorted((REPO / "bench" / "results").glob("*.md")))
     problems = 0
     checked = 0
     for path in files:
