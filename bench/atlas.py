@@ -623,8 +623,8 @@ def main():
         write_group_summaries(results, args.doc)
         if not args.cad:
             # The README's short table against the peers reads atlas.csv (and quality.csv).
-            import summary
-            summary.update()
+            import summary as peers_table  # not `summary`: main() calls this file's summary()
+            peers_table.update()
     shutil.rmtree(work, ignore_errors=True)
 
 
