@@ -19,12 +19,16 @@ double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Ve
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
 }
 
-// The area of the convex hull of the points (pack.h's hull, fanned from its first corner).
-double hullArea(std::vector<Eigen::Vector2d> points) {
-  const std::vector<Eigen::Vector2d> hull = convexHull(std::move(points));
+// The area of a convex hull (pack.h's), fanned from its first corner.
+double fanArea(const std::vector<Eigen::Vector2d>& hull) {
   double area = 0;
   for (size_t i = 2; i < hull.size(); ++i) area += 0.5 * cross(hull[0], hull[i - 1], hull[i]);
   return area;
+}
+
+// The area of the convex hull of the points.
+double hullArea(std::vector<Eigen::Vector2d> points) {
+  return fanArea(convexHull(std::move(points)));
 }
 
 double polygonArea(const std::vector<Eigen::Vector2d>& p) {
@@ -86,10 +90,7 @@ double clippedHullArea(const std::vector<Eigen::Vector2d>& polygon, const std::v
   points.reserve(corners.size() + on_line.size());
   std::merge(corners.begin(), corners.end(), on_line.begin(), on_line.end(),
              std::back_inserter(points), xThenY);
-  const std::vector<Eigen::Vector2d> hull = convexHullOfSorted(std::move(points));
-  double area = 0;
-  for (size_t i = 2; i < hull.size(); ++i) area += 0.5 * cross(hull[0], hull[i - 1], hull[i]);
-  return area;
+  return fanArea(convexHullOfSorted(std::move(points)));
 }
 
 }  // namespace

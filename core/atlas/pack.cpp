@@ -176,20 +176,29 @@ FootprintScratch& footprintScratch() {
   return scratch;
 }
 
+// The items' values grouped by column (a counting sort, in the items' order within a column):
+// column c's are out[start[c] .. start[c + 1]). `fill` is scratch.
+template <class Item, class Value, class ColumnOf, class ValueOf>
+void bucketByColumn(int columns, const std::vector<Item>& items, ColumnOf column_of,
+                    ValueOf value_of, std::vector<int>& start, std::vector<int>& fill,
+                    std::vector<Value>& out) {
+  start.assign(columns + 1, 0);
+  for (const Item& item : items) ++start[column_of(item) + 1];
+  for (int c = 0; c < columns; ++c) start[c + 1] += start[c];
+  out.resize(items.size());
+  fill.assign(start.begin(), start.end() - 1);
+  for (const Item& item : items) out[fill[column_of(item)]++] = value_of(item);
+}
+
 // Runs given as (column, low, high) in any order, per column, into `out`.
 void byColumn(int columns, const std::vector<std::array<int, 3>>& spans, ColumnRuns& out) {
   FootprintScratch& scratch = footprintScratch();
   std::vector<int>& start = scratch.start;
-  start.assign(columns + 1, 0);
-  for (const auto& s : spans) ++start[s[0] + 1];
-  for (int c = 0; c < columns; ++c) start[c + 1] += start[c];
   std::vector<std::pair<int, int>>& sorted = scratch.sorted;
-  sorted.resize(spans.size());
-  {
-    std::vector<int>& fill = scratch.fill;
-    fill.assign(start.begin(), start.end() - 1);
-    for (const auto& s : spans) sorted[fill[s[0]]++] = {s[1], s[2]};
-  }
+  bucketByColumn(
+      columns, spans, [](const std::array<int, 3>& s) { return s[0]; },
+      [](const std::array<int, 3>& s) { return std::make_pair(s[1], s[2]); }, start, scratch.fill,
+      sorted);
   out.clear();
   out.runs.reserve(spans.size());
   for (int c = 0; c < columns; ++c) {
@@ -260,16 +269,10 @@ void footprint(const std::vector<Eigen::Vector2d>& p,
     // Per column its crossings in y order: bucketed by column, then each column sorted (one
     // sort of every crossing by (column, y) was a third of a small part's footprint).
     std::vector<int>& start = scratch.start;
-    start.assign(fp.width + 1, 0);
-    for (const auto& [column, y] : crossings) ++start[column + 1];
-    for (int c = 0; c < fp.width; ++c) start[c + 1] += start[c];
     std::vector<double>& along = scratch.along;
-    along.resize(crossings.size());
-    {
-      std::vector<int>& fill = scratch.fill;
-      fill.assign(start.begin(), start.end() - 1);
-      for (const auto& [column, y] : crossings) along[fill[column]++] = y;
-    }
+    bucketByColumn(
+        fp.width, crossings, [](const std::pair<int, double>& c) { return c.first; },
+        [](const std::pair<int, double>& c) { return c.second; }, start, scratch.fill, along);
     for (int c = 0; c < fp.width; ++c) {
       std::sort(along.begin() + start[c], along.begin() + start[c + 1]);
       for (int k = start[c]; k + 1 < start[c + 1]; k += 2) {
