@@ -95,7 +95,7 @@ double clippedHullArea(const std::vector<Eigen::Vector2d>& polygon, const std::v
 
 }  // namespace
 
-std::vector<int> boundaryLoop(const std::vector<std::array<int, 3>>& triangles) {
+std::vector<std::pair<int, int>> borderEdges(const std::vector<std::array<int, 3>>& triangles) {
   Triangles F(triangles.size(), 3);
   int vertices = 0;
   for (size_t i = 0; i < triangles.size(); ++i)
@@ -103,11 +103,16 @@ std::vector<int> boundaryLoop(const std::vector<std::array<int, 3>>& triangles) 
       F(i, k) = triangles[i][k];
       vertices = std::max(vertices, triangles[i][k] + 1);
     }
-  std::vector<std::pair<int, int>> next;  // boundary half-edges (from, to), as the faces run
+  std::vector<std::pair<int, int>> edges;
   for (const HalfEdgeKey& key : borderHalfEdges(F, vertices)) {
     const int f = key.half_edge / 3, k = key.half_edge % 3;
-    next.emplace_back(F(f, k), F(f, (k + 1) % 3));
+    edges.emplace_back(F(f, k), F(f, (k + 1) % 3));
   }
+  return edges;
+}
+
+std::vector<int> boundaryLoop(const std::vector<std::array<int, 3>>& triangles) {
+  std::vector<std::pair<int, int>> next = borderEdges(triangles);
   if (next.empty()) return {};
   std::sort(next.begin(), next.end());
   for (size_t i = 1; i < next.size(); ++i)

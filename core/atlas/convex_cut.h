@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace sdp::atlas {
@@ -19,6 +20,10 @@ struct ConvexCut {
   double hull_gain = 0;  // convex hull area before minus the two sides' hull areas after
   double length = 0;     // length of the line inside the chart (the new seam, in the plane)
 };
+
+// The chart's border half-edges (from, to), as the faces run: those no other triangle has the
+// other way. Every loop of the border (holes too), in no particular order.
+std::vector<std::pair<int, int>> borderEdges(const std::vector<std::array<int, 3>>& triangles);
 
 // The chart's boundary as one loop of vertex indices, as the faces run; empty when the
 // triangles' boundary is not one loop (not a disk).

@@ -103,6 +103,9 @@ const Eigen::Matrix2d& quarterTurn(int q) {
   return turns[q];
 }
 
+// A chart's border half-edges (from, to), into its points.
+using Edges = std::vector<std::pair<int, int>>;
+
 // Cell runs [low, high] per column, sorted and disjoint.
 using Runs = std::vector<std::pair<int, int>>;
 
@@ -220,13 +223,13 @@ struct Footprint {
 // The footprint of a chart whose points, turned and scaled, are `p`. Each triangle touches one
 // run of cells per column (it is convex), found by the row spans of the transposed triangle, so
 // the cost follows the triangles' outlines, not the chart's area in texels. With the chart's
-// boundary `loop` (a simple polygon: the chart is one-to-one), only its edges are rastered, and
+// border `edges` (its outline and holes: the chart is one-to-one), only they are rastered, and
 // the cells between them in a column are those whose centre line lies inside (a cell that
 // touches the chart either meets its border or is inside it): the cost follows the border.
 // Built into `fp`, whose memory is reused.
 void footprint(const std::vector<Eigen::Vector2d>& p,
-               const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& loop,
-               double margin, int reach, int size, Footprint& fp) {
+               const std::vector<std::array<int, 3>>& triangles, const Edges& edges, double margin,
+               int reach, int size, Footprint& fp) {
   fp.cells.clear();
   fp.grown.clear();
   fp.base = Eigen::Vector2d::Zero();
@@ -250,13 +253,13 @@ void footprint(const std::vector<Eigen::Vector2d>& p,
   std::vector<std::array<int, 3>>& spans = scratch.spans;
   spans.clear();
   auto addSpan = [&](int x, int y0, int y1) { spans.push_back({x, y0, y1}); };
-  if (loop.size() >= 3) {
+  if (edges.size() >= 3) {
     std::vector<std::pair<int, double>>& crossings = scratch.crossings;
     crossings.clear();
-    for (size_t i = 0; i < loop.size(); ++i) {
-      const Eigen::Vector2d a = p[loop[i]] - fp.base, b = p[loop[(i + 1) % loop.size()]] - fp.base;
-      conservativeSegmentSpans(transposed(loop[i]), transposed(loop[(i + 1) % loop.size()]), margin,
-                               fp.height, fp.width, addSpan);
+    for (const auto& [from, to] : edges) {
+      const Eigen::Vector2d a = p[from] - fp.base, b = p[to] - fp.base;
+      conservativeSegmentSpans(transposed(from), transposed(to), margin, fp.height, fp.width,
+                               addSpan);
       // Where the edge crosses the centre lines x = c + 1/2 of the columns it spans.
       const int c0 = std::max(0, static_cast<int>(std::ceil(std::min(a.x(), b.x()) - 0.5)));
       const int c1 = std::min(fp.width - 1, static_cast<int>(std::floor(std::max(a.x(), b.x()))));
@@ -427,7 +430,7 @@ struct Spot {
 
 // The lowest free spot for a chart whose points, framed and scaled, are `p` (see packAt), and
 // in `turned` its footprint at each quarter turn.
-Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const std::vector<int>& loop,
+Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const Edges& border,
                 const std::vector<Eigen::Vector2d>& p, const PackOptions& options, int reach,
                 Footprint (&turned)[4]) {
   const int size = options.texture_size;
@@ -457,7 +460,7 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const std::
     // A quarter turn (x, y) -> (-y, x) is exact in floating point.
     for (int t = 0; t < turn; ++t)
       for (Eigen::Vector2d& v : q) v = Eigen::Vector2d(-v.y(), v.x());
-    footprint(q, chart.triangles, loop, options.margin, reach, size, turned[turn]);
+    footprint(q, chart.triangles, border, options.margin, reach, size, turned[turn]);
   };
   std::once_flag built[4];
   auto scanSlice = [&](int task) {
@@ -511,11 +514,12 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const std::
 // Packs every chart at `scale` into a strip as wide as the texture, each at a low free spot
 // (lowest top, then lowest, then leftmost, of those searched over four quarter turns: every
 // stride-th column, then a halving search around the best); returns the strip's used height,
-// or INT_MAX when a chart is wider than the texture.
+// or INT_MAX when a chart is wider than the texture or, with `give_up_above`, as soon as the
+// height passes it (the height only grows as charts are placed).
 int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
-           const std::vector<Eigen::Vector2d>& extent, const std::vector<std::vector<int>>& loops,
+           const std::vector<Eigen::Vector2d>& extent, const std::vector<Edges>& borders,
            const std::vector<int>& order, double scale, const PackOptions& options, int attempt,
-           std::vector<Placement>& placements) {
+           std::vector<Placement>& placements, int give_up_above = INT_MAX) {
   const int size = options.texture_size;
   const int reach = std::max(options.gutter - 1, 0);
   Occupancy occupancy(size);
@@ -539,10 +543,11 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
     if (diagonalFits(extent[c], scale, size)) frame = rotationBy(kPi / 4) * box[c];
     std::vector<Eigen::Vector2d> p(charts[c].uv.size());
     for (size_t i = 0; i < p.size(); ++i) p[i] = frame * charts[c].uv[i] * scale;
-    const Spot best = lowestSpot(occupancy, charts[c], loops[c], p, options, reach, turned);
+    const Spot best = lowestSpot(occupancy, charts[c], borders[c], p, options, reach, turned);
     const Footprint& chosen = turned[best.turn];
     if (best.top == INT_MAX) return INT_MAX;
     occupancy.occupy(chosen, best.x, best.y);
+    if (occupancy.top() > give_up_above) return INT_MAX;
     placements[c].rotation = quarterTurn(best.turn) * frame;
     placements[c].offset = Eigen::Vector2d(best.x, best.y) - chosen.base;
   }
@@ -559,10 +564,9 @@ constexpr size_t kMostPointsForFinePacking = 200000;
 double largestFittingScale(const std::vector<ChartShape>& charts,
                            const std::vector<Eigen::Matrix2d>& box,
                            const std::vector<Eigen::Vector2d>& extent,
-                           const std::vector<std::vector<int>>& loops,
-                           const std::vector<int>& order, double aim, bool must_beat,
-                           const PackOptions& options, std::vector<Placement>& placements,
-                           int& attempts) {
+                           const std::vector<Edges>& borders, const std::vector<int>& order,
+                           double aim, bool must_beat, const PackOptions& options,
+                           std::vector<Placement>& placements, int& attempts) {
   const int size = options.texture_size;
   // Packed into a strip as wide as the texture, the used height grows about as the scale: each
   // try aims at the height of the texture from the last, between the largest scale that fit and
@@ -589,7 +593,12 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
   double last_scale = 0, last_height = 0;
   for (int attempt = 0; attempt < (fits > 0 ? kMostTries : kMostTriesToFit) && fails > 1.005 * fits;
        ++attempt) {
-    const int height = packAt(charts, box, extent, loops, order, scale, options, attempts++, trial);
+    // A try that must beat an earlier order and has not yet fit ends the search when it fails,
+    // whatever its height: it stops as soon as it overflows (same result, a fraction of the work;
+    // most such tries fail).
+    const int give_up_above = must_beat && fits == 0 ? size : INT_MAX;
+    const int height = packAt(charts, box, extent, borders, order, scale, options, attempts++,
+                              trial, give_up_above);
     if (height <= size) {
       fits = scale;
       placements = trial;
@@ -636,7 +645,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
   packing.placements.resize(n);
   if (n == 0) return packing;
   std::vector<Eigen::Matrix2d> box(n);
-  std::vector<std::vector<int>> loops(n);
+  std::vector<Edges> borders(n);
   std::vector<Eigen::Vector2d> extent(n);
   std::vector<double> area(n, 0.0);
   double total = 0, longest = 0;
@@ -645,7 +654,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
       [&](int begin, int end, int) {
         for (int c = begin; c < end; ++c) {
           box[c] = smallestBoxRotation(charts[c].uv);
-          loops[c] = boundaryLoop(charts[c].triangles);
+          borders[c] = borderEdges(charts[c].triangles);
           extent[c] = boundsOf(charts[c].uv, box[c]).extent();
           area[c] = uvArea(charts[c].uv, charts[c].triangles);
         }
@@ -682,7 +691,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] > key[b]; });
     const double scale =
-        largestFittingScale(charts, box, extent, loops, order, kind == 0 ? aim : 1.005 * fits,
+        largestFittingScale(charts, box, extent, borders, order, kind == 0 ? aim : 1.005 * fits,
                             kind > 0, options, trial, packing.attempts);
     if (scale > fits) {
       fits = scale;
