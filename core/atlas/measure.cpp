@@ -222,13 +222,16 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
       for (int i = band_begin[b]; i < band_begin[b + 1]; ++i) {
         const int f = band_face[i];
         const int c = chart.empty() ? 0 : chart[f];
-        coveredPixelsInRows(corners[f].data(), size, grown_begin, grown_end, [&](int x, int y) {
-          int& o = owner[static_cast<size_t>(y - grown_begin) * size + x];
-          o = o == kEmpty || o == c ? c : kShared;
-          if (y < row_begin || y >= row_end) return;
-          unsigned char& n = covers[static_cast<size_t>(y - row_begin) * size + x];
-          if (n < 255) ++n;
-        });
+        // Per run of a row, in loops plain enough to run in vector registers.
+        coveredSpansInRows(corners[f].data(), size, grown_begin, grown_end,
+                           [&](int y, int x0, int x1) {
+                             int* o = &owner[static_cast<size_t>(y - grown_begin) * size];
+                             for (int x = x0; x <= x1; ++x)
+                               o[x] = o[x] == kEmpty || o[x] == c ? c : kShared;
+                             if (y < row_begin || y >= row_end) return;
+                             unsigned char* n = &covers[static_cast<size_t>(y - row_begin) * size];
+                             for (int x = x0; x <= x1; ++x) n[x] = n[x] < 255 ? n[x] + 1 : 255;
+                           });
       }
       for (size_t at = 0; at < static_cast<size_t>(row_end - row_begin) * size; ++at)
         overlapping[b] += covers[at] >= 2;

@@ -79,11 +79,12 @@ void conservativeCells(const Eigen::Vector2d p[3], double margin, int width, int
   });
 }
 
-// Calls visit(x, y) for every pixel of [0, width) x [row_begin, row_end) whose centre the
-// triangle covers, by the top-left rule (either winding; zero-area triangles cover nothing).
-template <class Visit>
-void coveredPixelsInRows(const Eigen::Vector2d q[3], int width, int row_begin, int row_end,
-                         Visit&& visit) {
+// Calls visit(y, x0, x1) for each row of [row_begin, row_end) with the pixels x0..x1 of
+// [0, width) whose centre the triangle covers, by the top-left rule (either winding; zero-area
+// triangles cover nothing). A row's covered pixels are always one run.
+template <class VisitSpan>
+void coveredSpansInRows(const Eigen::Vector2d q[3], int width, int row_begin, int row_end,
+                        VisitSpan&& visit) {
   Eigen::Vector2d p[3] = {q[0], q[1], q[2]};
   double twice_area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[1] - p[0]).y() * (p[2] - p[0]).x();
   if (!(twice_area != 0) || !std::isfinite(twice_area)) return;
@@ -136,19 +137,36 @@ void coveredPixelsInRows(const Eigen::Vector2d q[3], int width, int row_begin, i
       row_x0 = std::max(x0, column(std::floor(x_low - 0.5 - margin)));
       row_x1 = std::min(x1, column(std::ceil(x_high - 0.5 + margin)));
     }
-    for (int x = row_x0; x <= row_x1; ++x) {
-      const Eigen::Vector2d c(x + 0.5, y + 0.5);
-      bool inside = true;
-      for (int k = 0; k < 3 && inside; ++k) {
+    auto inside = [&](int x) {
+      const Eigen::Vector2d c(x + 0.5, centre_y);
+      for (int k = 0; k < 3; ++k) {
         const Eigen::Vector2d& a = origin[k];
         const Eigen::Vector2d& e = direction[k];
         double side = e.x() * (c.y() - a.y()) - e.y() * (c.x() - a.x());
         if (reversed[k]) side = -side;
-        inside = side > 0 || (side == 0 && owns[k]);
+        if (!(side > 0 || (side == 0 && owns[k]))) return false;
       }
-      if (inside) visit(x, y);
-    }
+      return true;
+    };
+    // Along a row each side value is monotone in x, also as rounded (a difference and a product
+    // by a constant), so each edge keeps a half-line of centres and the triangle an interval:
+    // only its ends are searched, the pixels between are inside without a test.
+    int first = row_x0;
+    while (first <= row_x1 && !inside(first)) ++first;
+    if (first > row_x1) continue;
+    int last = row_x1;
+    while (last > first && !inside(last)) --last;
+    visit(y, first, last);
   }
+}
+
+// Calls visit(x, y) for every pixel of coveredSpansInRows.
+template <class Visit>
+void coveredPixelsInRows(const Eigen::Vector2d q[3], int width, int row_begin, int row_end,
+                         Visit&& visit) {
+  coveredSpansInRows(q, width, row_begin, row_end, [&](int y, int x0, int x1) {
+    for (int x = x0; x <= x1; ++x) visit(x, y);
+  });
 }
 
 // The pixels of [0, width) x [0, height) whose centre the triangle covers (above).
