@@ -13,6 +13,11 @@ anything inside code (fenced blocks and `spans`).
   python3 scripts/check-links.py --inside DIR FILE.md ...
                                                  also fails a link that leaves DIR (an installed
                                                  doc folder must hold everything its README links)
+  python3 scripts/check-links.py --closure FILE.md ...
+                                                 prints, one per line relative to the repository,
+                                                 every local file those files link to, following
+                                                 links in linked Markdown too (what a package
+                                                 ships beside its docs so that they resolve)
 
 Exit 1 naming every broken link, else prints how many links were checked. Python 3 standard
 library only (tests/packages/deb_test.py imports it for the installed README)."""
@@ -122,11 +127,36 @@ def broken(path, inside=None):
     return problems
 
 
+def closure(paths):
+    """Every existing local file that the Markdown files PATHS link to, following the links of
+    the linked Markdown files too (the files themselves included), sorted."""
+    seen = set()
+    pending = [pathlib.Path(p).resolve() for p in paths]
+    while pending:
+        path = pending.pop()
+        if path in seen or not path.is_file():
+            continue
+        seen.add(path)
+        if path.suffix != ".md":
+            continue
+        for _, target in relative_links(path.read_text(encoding="utf-8")):
+            name = re.sub(r"%20", " ", target.partition("#")[0])
+            if name:
+                pending.append((path.parent / name).resolve())
+    return sorted(seen)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("files", nargs="*", help="default: README.md, docs/*.md, core/**/README.md, bench/results/*.md")
     parser.add_argument("--inside", help="also fail links that leave this folder")
+    parser.add_argument("--closure", action="store_true",
+                        help="print the local files the given Markdown files link to")
     args = parser.parse_args()
+    if args.closure:
+        for path in closure(args.files):
+            print(os.path.relpath(path, REPO))
+        return
     files = ([pathlib.Path(f) for f in args.files] or
              [REPO / "README.md"] + sorted((REPO / "docs").glob("*.md")) +
              sorted((REPO / "core").glob("**/README.md")) +

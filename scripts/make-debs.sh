@@ -8,7 +8,8 @@
 #   /usr/share/straightest_param/straightest_param.mlx                         the example script
 #   /usr/share/doc/<package>/                                                  README.md, copyright
 #   /usr/share/doc/<package>/docs/                                             docs/*.md, docs/images/
-# (the docs keep the repository's folders, so that the README's links resolve where it is).
+#   /usr/share/doc/<package>/bench/results/, tests/robustness/                what the docs link to
+# (the docs keep the repository's folders, so that their links resolve where they are).
 # They ship the same /usr/bin/straightest_param, so they conflict with one another (a
 # system has one MeshLab). Tested by tests/packages/deb_test.py: apt-get install, a run in that
 # MeshLab, apt-get remove.
@@ -37,6 +38,12 @@ printf 'Source: straightest-param\n\nPackage: straightest-param\nArchitecture: a
 cli_depends=$(cd "$work/shlibs" && dpkg-shlibdeps -O "$cli" 2>/dev/null | sed -n 's/^shlibs:Depends=//p')
 [[ -n "$cli_depends" ]] || { echo "make-debs: dpkg-shlibdeps found nothing for $cli" >&2; exit 1; }
 
+# What the docs ship: README.md, docs/*.md and docs/images/*, and every file they link to.
+mapfile -t doc_files < <(cd "$repo_dir" && {
+  python3 scripts/check-links.py --closure README.md docs/*.md
+  find docs/images -type f
+} | sort -u)
+
 mkdir -p "$out_dir"
 source "$repo_dir/scripts/meshlab-builds.sh"
 packaged=$(meshlab_builds | awk -F'\t' '$8 != "-"')
@@ -55,9 +62,10 @@ while IFS=$'\t' read -r -u 3 folder meshlab_version _api _scalar _runs_in _tarba
   install -D -m 755 "$cli" "$staging/usr/bin/straightest_param"
   install -D -m 644 "$repo_dir/resources/straightest_param.mlx" "$staging/usr/share/straightest_param/straightest_param.mlx"
   doc="$staging/usr/share/doc/$package"
-  install -D -m 644 "$repo_dir/README.md" "$doc/README.md"
-  for file in "$repo_dir"/docs/*.md "$repo_dir"/docs/images/*; do
-    if [[ -f "$file" ]]; then install -D -m 644 "$file" "$doc/${file#"$repo_dir/"}"; fi
+  # The README, docs/ and every file they link to (bench results, pictures), at the same
+  # relative places, so that every link of the installed docs resolves.
+  for file in "${doc_files[@]}"; do
+    install -D -m 644 "$repo_dir/$file" "$doc/$file"
   done
   cat >"$doc/copyright" <<EOF
 Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/

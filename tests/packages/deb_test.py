@@ -14,7 +14,7 @@ Where:
 
 Checks: the package installs with apt-get, puts the plugin into MeshLab's plugin folder,
 straightest_param into /usr/bin and the .mlx and docs under /usr/share (every relative link of
-the installed README resolving inside its doc folder); the installed filter maps
+the installed Markdown files resolving inside their doc folder); the installed filter maps
 a disk (0 flipped faces recomputed from the saved OBJ) and the installed CLI does too; after
 `apt-get remove` the files are gone and MeshLab opens and saves a mesh without our filter.
 """
@@ -96,10 +96,15 @@ def test(args, target, folder):
     docs = target.path("/usr/share/doc/%s" % package)
     check(os.path.isfile(os.path.join(docs, "README.md")) and
           os.path.isfile(os.path.join(docs, "copyright")), "docs in /usr/share/doc/%s" % package)
-    readme = os.path.join(docs, "README.md")
-    broken = check_links.broken(readme, inside=docs)
-    check(not broken, "every relative link of the installed README resolves in /usr/share/doc/%s"
-          % package + "".join("\n  line %d: %s: %s" % b for b in broken))
+    # The README and every Markdown file shipped beside it (docs/, the bench results they
+    # link to): each link resolves inside the doc folder.
+    installed_md = sorted(os.path.join(top, name) for top, _, names in os.walk(docs)
+                          for name in names if name.endswith(".md"))
+    broken = [(os.path.relpath(md, docs),) + b for md in installed_md
+              for b in check_links.broken(md, inside=docs)]
+    check(len(installed_md) > 1 and not broken,
+          "every relative link of the %d installed Markdown files resolves in /usr/share/doc/%s"
+          % (len(installed_md), package) + "".join("\n  %s:%d: %s: %s" % b for b in broken))
 
     # The installed command line tool.
     cli_out = folder + "/cli.obj"
