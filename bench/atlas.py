@@ -240,7 +240,7 @@ def summary_figures(rows_by_model, efficiency_target=0.70, cad=False):
         ("models passing every hard gate", f"{sum(hard_gates_ok(r) for r in ours_rows)}",
          f"{sum(hard_gates_ok(r) for r in xa_rows)}", "", "all"),
         ("models with seam ≤ max(1.5× xatlas's, xatlas's + 2)",
-         f"{sum(o['seam'] <= max(1.5 * x['seam'], x['seam'] + 2) for _, o, x in common)}", "", "",
+         f"{sum(o['seam'] <= max(1.5 * x['seam'], x['seam'] + 2) for _, o, x in common)}", "–", "",
          "all"),
         ("largest L2", f"{max(r['l2'] for r in ours_rows):.4f}",
          f"{max(r['l2'] for r in xa_rows):.4f}", "", "≤ 1.05"),
@@ -295,7 +295,8 @@ def summary_unthreaded(rows_by_model, efficiency_target):
         return f"No model other than {names} with both ours and xatlas.\n"
     return (f"Without {names} (xatlas makes one chart per face on their helical threads, which "
             f"dominates its totals), over {len(common)} models, ours against xatlas: " +
-            "; ".join(f"{measure} {ours} against {xa}" + (f" (ratio {ratio})" if ratio else "")
+            "; ".join(f"{measure} {ours}" + (f" against {xa}" if xa != "–" else "") +
+                      (f" (ratio {ratio})" if ratio else "")
                       for measure, ours, xa, ratio, _ in figures) + ".\n")
 
 
