@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -23,6 +24,7 @@
 #include "core/atlas/raster.h"
 #include "core/common/connectivity.h"
 #include "core/common/error.h"
+#include "core/common/geometry.h"
 #include "io/mesh_io.h"
 #include "test_mesh_files.h"
 #include "test_meshes.h"
@@ -169,6 +171,42 @@ TEST(AtlasRaster, SharedEdgesThroughCentresCoverEachPixelOnceWhateverTheRounding
         if (cx > offset + 0.01 && cy > offset + 0.01 && cx < offset + side - 0.01 &&
             cy < offset + side - 0.01)
           ASSERT_EQ(count[y * 32 + x], 1) << "trial " << trial << " pixel " << x << "," << y;
+      }
+  }
+}
+
+TEST(AtlasRaster, CoveredPixelsAreThoseWhoseCentreLiesInside) {
+  // Random triangles, slivers among them: each row's covered pixels are found from the run's
+  // two ends only, so every centre clearly inside must be covered and every centre clearly
+  // outside not (centres within 1e-6 texel of an edge go to one side by the top-left rule).
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> at(-4, 44);
+  for (int trial = 0; trial < 3000; ++trial) {
+    Eigen::Vector2d t[3] = {{at(random), at(random)}, {at(random), at(random)}, {0, 0}};
+    // Every third a sliver: the third corner near the first edge's line.
+    const double along = std::uniform_real_distribution<double>(0, 1)(random);
+    t[2] = trial % 3 == 0 ? Eigen::Vector2d(t[0] + along * (t[1] - t[0]) +
+                                            Eigen::Vector2d(0.3 * along, -0.2 * along))
+                          : Eigen::Vector2d(at(random), at(random));
+    const double twice_area = cross2(t[1] - t[0], t[2] - t[0]);
+    if (std::abs(twice_area) < 1e-9) continue;
+    std::vector<char> covered(40 * 40, 0);
+    coveredPixels(t, 40, 40, [&](int x, int y) {
+      ASSERT_FALSE(covered[y * 40 + x]) << "trial " << trial;
+      covered[y * 40 + x] = 1;
+    });
+    for (int y = 0; y < 40; ++y)
+      for (int x = 0; x < 40; ++x) {
+        const Eigen::Vector2d c(x + 0.5, y + 0.5);
+        double least = std::numeric_limits<double>::infinity();  // signed distance to the edges
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Vector2d e = t[(k + 1) % 3] - t[k];
+          least = std::min(least, (twice_area > 0 ? 1 : -1) * cross2(e, c - t[k]) / e.norm());
+        }
+        if (least > 1e-6)
+          ASSERT_TRUE(covered[y * 40 + x]) << "trial " << trial << " " << x << "," << y;
+        if (least < -1e-6)
+          ASSERT_FALSE(covered[y * 40 + x]) << "trial " << trial << " " << x << "," << y;
       }
   }
 }
@@ -926,6 +964,31 @@ TEST(AtlasPack, ConcaveChartsInterlockWithoutOverlapOrGutterBreach) {
     EXPECT_GT(area * packing.texels_per_unit * packing.texels_per_unit / (512.0 * 512.0), 0.5)
         << gutter;
   }
+}
+
+TEST(AtlasPack, AChartsHoleStaysFreeForAnother) {
+  // A 10 x 10 frame around a 4 x 4 hole, and a 2 x 2 square: at the largest scale the frame
+  // spans the texture, so the square fits only inside the hole, and does (the frame's footprint
+  // comes from all its border edges, the hole's loop too, even-odd per column).
+  ChartShape frame = gridChart(10, [](int x, int y) { return x < 3 || x >= 7 || y < 3 || y >= 7; });
+  ASSERT_TRUE(boundaryLoop(frame.triangles).empty());  // two loops
+  EXPECT_EQ(borderEdges(frame.triangles).size(), 40u + 16u);
+  std::vector<ChartShape> charts = {frame, gridChart(2, [](int, int) { return true; })};
+  PackOptions options;
+  options.texture_size = 256;
+  const Packing packing = packCharts(charts, options);
+  // Beside the frame the two would need 12 units across; inside, 10 and the gutter.
+  EXPECT_GT(packing.texels_per_unit * 10, 0.95 * 256);
+  const Eigen::Vector2d square_centre = packing.apply(1, Eigen::Vector2d(1, 1), 256);
+  const Eigen::Vector2d hole_centre = packing.apply(0, Eigen::Vector2d(5, 5), 256);
+  EXPECT_LT((square_centre - hole_centre).cwiseAbs().maxCoeff() * 256,
+            packing.texels_per_unit * 1.0 + 1);
+  const Layout layout = packedLayout(charts, packing, 256);
+  EXPECT_LE(layout.uv.maxCoeff(), 1.0);
+  EXPECT_GE(layout.uv.minCoeff(), 0.0);
+  const PixelMeasures pixels = measurePixels(layout, layout.chart, 256, options.gutter);
+  EXPECT_EQ(pixels.overlapping_pixels, 0);
+  EXPECT_EQ(pixels.gutter_violations, 0);
 }
 
 TEST(AtlasPack, AStripTooLongForTheTextureGoesAcrossItsDiagonal) {
