@@ -533,7 +533,7 @@ TEST(Atlas, MorePiecesThanTheTextureHoldsAreRefusedBeforeCharting) {
     EXPECT_NE(why.find("raise the texture size"), std::string::npos) << why;
     EXPECT_EQ(why.find('\n'), std::string::npos);
   }
-  EXPECT_LE(highest, 3);  // the connectivity's share of the bar: no chart was cut or flattened
+  EXPECT_LE(highest, 4);  // the connectivity's share of the bar: no chart was cut or flattened
   // With a texture twice as wide the same soup is charted.
   o.texture_size = 128;
   EXPECT_EQ(makeAtlas(V, F, o).report.charts, 1025);
