@@ -104,15 +104,21 @@ def anchors(path, cache={}):
     return cache[path]
 
 
+def resolve(path, target):
+    """(the file or folder a relative link TARGET in the Markdown file PATH names, its #fragment):
+    a link with only a fragment names PATH itself."""
+    name, _, fragment = target.partition("#")
+    name = re.sub(r"%20", " ", name)
+    return ((path.parent / name).resolve() if name else path.resolve()), fragment
+
+
 def broken(path, inside=None):
     """(line, target, reason) of every relative link in the Markdown file PATH that does not
     resolve (or, with INSIDE, leaves that folder)."""
     path = pathlib.Path(path)
     problems = []
     for number, target in relative_links(path.read_text(encoding="utf-8")):
-        name, _, fragment = target.partition("#")
-        name = re.sub(r"%20", " ", name)
-        resolved = (path.parent / name).resolve() if name else path.resolve()
+        resolved, fragment = resolve(path, target)
         if inside is not None:
             root = pathlib.Path(inside).resolve()
             if os.path.commonpath([root, resolved]) != str(root):
@@ -139,10 +145,8 @@ def closure(paths):
         seen.add(path)
         if path.suffix != ".md":
             continue
-        for _, target in relative_links(path.read_text(encoding="utf-8")):
-            name = re.sub(r"%20", " ", target.partition("#")[0])
-            if name:
-                pending.append((path.parent / name).resolve())
+        pending += [resolve(path, target)[0]
+                    for _, target in relative_links(path.read_text(encoding="utf-8"))]
     return sorted(seen)
 
 
