@@ -934,6 +934,18 @@ Layout packedLayout(const std::vector<ChartShape>& charts, const Packing& packin
   return layout;
 }
 
+// The packed charts as stored: inside the unit square, no pixel covered twice, every gutter
+// kept, checked pixel by pixel at the texture size.
+void expectPackedCleanly(const std::vector<ChartShape>& charts, const Packing& packing, int size,
+                         int gutter) {
+  const Layout layout = packedLayout(charts, packing, size);
+  EXPECT_LE(layout.uv.maxCoeff(), 1.0);
+  EXPECT_GE(layout.uv.minCoeff(), 0.0);
+  const PixelMeasures pixels = measurePixels(layout, layout.chart, size, gutter);
+  EXPECT_EQ(pixels.overlapping_pixels, 0);
+  EXPECT_EQ(pixels.gutter_violations, 0);
+}
+
 TEST(AtlasPack, ConcaveChartsInterlockWithoutOverlapOrGutterBreach) {
   // Twelve L-shaped charts and forty small squares (each footprint rastered from the chart's
   // border and the column lines inside it), packed and checked pixel by pixel at several gutters.
@@ -951,15 +963,11 @@ TEST(AtlasPack, ConcaveChartsInterlockWithoutOverlapOrGutterBreach) {
     PackOptions options;
     options.texture_size = 512;
     options.gutter = gutter;
+    SCOPED_TRACE(gutter);
     const Packing packing = packCharts(charts, options);
-    const Layout layout = packedLayout(charts, packing, 512);
+    expectPackedCleanly(charts, packing, 512, gutter);
     double area = 0;
     for (const ChartShape& c : charts) area += uvArea(c.uv, c.triangles);
-    EXPECT_LE(layout.uv.maxCoeff(), 1.0);
-    EXPECT_GE(layout.uv.minCoeff(), 0.0);
-    const PixelMeasures pixels = measurePixels(layout, layout.chart, 512, gutter);
-    EXPECT_EQ(pixels.overlapping_pixels, 0) << gutter;
-    EXPECT_EQ(pixels.gutter_violations, 0) << gutter;
     // The L's interlock: more of the square is used than their bounding boxes would allow.
     EXPECT_GT(area * packing.texels_per_unit * packing.texels_per_unit / (512.0 * 512.0), 0.5)
         << gutter;
@@ -983,12 +991,7 @@ TEST(AtlasPack, AChartsHoleStaysFreeForAnother) {
   const Eigen::Vector2d hole_centre = packing.apply(0, Eigen::Vector2d(5, 5), 256);
   EXPECT_LT((square_centre - hole_centre).cwiseAbs().maxCoeff() * 256,
             packing.texels_per_unit * 1.0 + 1);
-  const Layout layout = packedLayout(charts, packing, 256);
-  EXPECT_LE(layout.uv.maxCoeff(), 1.0);
-  EXPECT_GE(layout.uv.minCoeff(), 0.0);
-  const PixelMeasures pixels = measurePixels(layout, layout.chart, 256, options.gutter);
-  EXPECT_EQ(pixels.overlapping_pixels, 0);
-  EXPECT_EQ(pixels.gutter_violations, 0);
+  expectPackedCleanly(charts, packing, 256, options.gutter);
 }
 
 TEST(AtlasPack, AStripTooLongForTheTextureGoesAcrossItsDiagonal) {
@@ -1004,12 +1007,7 @@ TEST(AtlasPack, AStripTooLongForTheTextureGoesAcrossItsDiagonal) {
   EXPECT_GT(packing.texels_per_unit, 1.3 * 254 / 40);
   const Eigen::Vector2d along = packing.placements[0].rotation * Eigen::Vector2d(1, 0);
   EXPECT_NEAR(std::abs(along.x()), std::abs(along.y()), 1e-9);  // at 45 degrees
-  const Layout layout = packedLayout(charts, packing, 256);
-  EXPECT_LE(layout.uv.maxCoeff(), 1.0);
-  EXPECT_GE(layout.uv.minCoeff(), 0.0);
-  const PixelMeasures pixels = measurePixels(layout, layout.chart, 256, options.gutter);
-  EXPECT_EQ(pixels.overlapping_pixels, 0);
-  EXPECT_EQ(pixels.gutter_violations, 0);
+  expectPackedCleanly(charts, packing, 256, options.gutter);
 }
 
 TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
