@@ -374,8 +374,8 @@ class AtlasBuilder {
   // 5.47M- and 13.6M-face scans with noise (`stage_seconds`: cut 13 and 18 %, charts 42 and
   // 32 %, merging 14 and 17 %, packing 20 and 23 %), so that at about 5M faces the bar moves
   // every two seconds or less (bench/scans.py's progress column).
-  // The connectivity gets a percent per step of its analysis, of the face graph and of the
-  // pieces (the analysis's last step and the face graph waited 3.6 s at 5.47M faces for one).
+  // The connectivity analysis moves the bar a percent per step (makeAtlas), the face graph one
+  // more (the analysis's last step and the face graph waited 3.6 s for one at 5.47M faces).
   static constexpr int kConnectivityPercent = 3, kCutPercent = 5, kFlattenPercent = 19,
                        kMergePercent = 54, kPackPercent = 69, kStorePercent = 91,
                        kMeasurePercent = 96;
