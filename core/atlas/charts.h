@@ -21,7 +21,10 @@ namespace sdp::atlas {
 // What growing needs per face and per vertex.
 struct FaceGraph {
   const Triangles* F = nullptr;
-  std::vector<Eigen::Vector3d> normal;    // unit, zero for a zero-area face
+  std::vector<Eigen::Vector3d> normal;  // unit, zero for a zero-area face
+  // The normals charts grow by (growRegions): smoothed over a few rings of faces, so that
+  // noise at the scale of single faces does not steer the growth (charts.cpp).
+  std::vector<Eigen::Vector3f> growth_normal;
   std::vector<Eigen::Vector3d> centroid;  //
   std::vector<double> area;
   // Per half-edge 3 f + k: the face across that edge when the two faces may share a chart (a
