@@ -639,6 +639,41 @@ std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::
   });
 }
 
+double secondFeaturePatchShare(const FaceGraph& graph, const std::vector<int>& faces,
+                               double sharp_cos, int fewest, FaceScratch& scratch) {
+  std::vector<int>& patch = scratch.region;
+  for (int f : faces) patch[f] = kUnassigned;
+  double total = 0, largest = 0, second = 0;
+  std::vector<int> queue;
+  for (int start : faces) {
+    if (patch[start] != kUnassigned) continue;
+    queue.assign(1, start);
+    patch[start] = kMarked;
+    double area = 0;
+    for (size_t i = 0; i < queue.size(); ++i) {
+      const int f = queue[i];
+      area += graph.area[f];
+      for (int k = 0; k < 3; ++k) {
+        const int next = graph.across[3 * f + k];
+        if (next < 0 || patch[next] != kUnassigned ||
+            graph.normal[f].dot(graph.normal[next]) < sharp_cos)
+          continue;
+        patch[next] = kMarked;
+        queue.push_back(next);
+      }
+    }
+    total += area;
+    if (static_cast<int>(queue.size()) < fewest) continue;  // it would join a neighbour
+    if (area > largest) {
+      second = largest, largest = area;
+    } else {
+      second = std::max(second, area);
+    }
+  }
+  for (int f : faces) patch[f] = kOutside;
+  return total > 0 ? second / total : 0;
+}
+
 std::vector<std::vector<int>> flatPatches(const FaceGraph& graph, const std::vector<int>& faces,
                                           double cone_cos, int fewest, FaceScratch& scratch) {
   // Seeds largest first (a CAD part's flat faces before its fillets' strips), ties by index.

@@ -83,6 +83,12 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
 std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
                                              double sharp_cos, int fewest, FaceScratch& scratch);
 
+// The area of the second largest of the patches featurePatches grows, among those of at least
+// `fewest` faces (the others would join a neighbour), over the faces' area: 0 for one patch. One
+// pass over the faces, keeping no lists (a scan's whole piece is millions of faces).
+double secondFeaturePatchShare(const FaceGraph& graph, const std::vector<int>& faces,
+                               double sharp_cos, int fewest, FaceScratch& scratch);
+
 // The faces of the list in patches that each face about one way: grown from the largest faces
 // first, each across the edges to faces whose normal is within the angle whose cosine is
 // `cone_cos` of its seed face's. Small patches join a neighbour as in featurePatches. For a

@@ -675,6 +675,11 @@ TEST(AtlasCharts, FeaturePatchesFollowSharpEdgesAndAbsorbSmallOnes) {
   for (const auto& part : joined) total += part.size();
   EXPECT_EQ(total, m.faces.size());
   for (int f : m.faces) EXPECT_EQ(m.scratch.region[f], kOutside);
+  // The 1 x 2 x 3 box's sides have areas 2, 3 and 6, two of each: the second largest holds 6 of
+  // 22; counted only from 100 faces (72 each), none does.
+  EXPECT_NEAR(secondFeaturePatchShare(m.graph, m.faces, sharp, 1, m.scratch), 6.0 / 22, 1e-12);
+  EXPECT_EQ(secondFeaturePatchShare(m.graph, m.faces, sharp, 100, m.scratch), 0.0);
+  for (int f : m.faces) EXPECT_EQ(m.scratch.region[f], kOutside);
 }
 
 TEST(AtlasCharts, EulerCharacteristicOfRegionsMatchesTheirMesh) {
