@@ -358,12 +358,12 @@ class AtlasBuilder {
  private:
   // A mechanical piece grows its parts by its faces' own normals, not the smoothed ones
   // (FaceGraph::growth_normal): its normals carry no noise, and on a coarse mesh a few rings of
-  // faces reach across a gear's tooth. Mechanical: its second feature patch (secondFeaturePatch-
-  // Share) holds at least kMechanicalPatchShare of its area. On the CAD models the second patch
-  // holds 0.8-42 % of the part, on the atlas bench's organic models 0 or 0.5-31 % (cow,
+  // faces reach across a gear's tooth. Mechanical: its second feature patch holds at least
+  // kMechanicalPatchShare of its area (secondFeaturePatchShare). On the CAD models the second
+  // patch holds 0.8-42 % of the part, on the atlas bench's organic models 0 or 0.5-31 % (cow,
   // cheburashka, the knight, the truck: creases), and on the scans bench's meshes, where noise
   // makes dihedral angles above the sharp edges' 40 degrees around patches of some tens of
-  // faces, below 0.01 %. One pass over each piece, with no lists: seconds at 13.6M faces.
+  // faces, below 0.01 % (docs/measurements.md, *Growth by smoothed normals*).
   void growByOwnNormalsOnMechanicalPieces(FaceGraph& graph,
                                           const std::vector<std::vector<int>>& pieces) {
     forEachWithScratch(graph, static_cast<int>(pieces.size()), [&](int i, FaceScratch& scratch) {
