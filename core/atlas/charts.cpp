@@ -608,16 +608,19 @@ std::vector<std::vector<int>> absorbSmallPatches(const FaceGraph& graph,
 // Patches over `faces` (marked in `patch`), each grown from the next unassigned face of `seeds`
 // across the edges from a face `f` to a neighbour `next` unless separated(f, seed, next); then
 // small ones absorbed as absorbSmallPatches does.
-template <class Separated>
-std::vector<std::vector<int>> growPatches(const FaceGraph& graph, const std::vector<int>& faces,
-                                          const std::vector<int>& seeds, int fewest,
-                                          std::vector<int>& patch, Separated separated) {
-  for (int f : faces) patch[f] = kUnassigned;
+// Floods patches over the faces `patch` marks kUnassigned, each from the next unassigned face of
+// `seeds` across the edges from a face `f` to a neighbour `next` unless separated(f, seed,
+// next), giving ids 0, 1, ... in `patch`; done(members) sees each patch's faces as flooded.
+// Returns the number of patches.
+template <class Separated, class Done>
+int floodPatches(const FaceGraph& graph, const std::vector<int>& seeds, std::vector<int>& patch,
+                 Separated separated, Done done) {
   int count = 0;
+  std::vector<int> queue;
   for (int start : seeds) {
     if (patch[start] != kUnassigned) continue;
     const int id = count++;
-    std::vector<int> queue = {start};
+    queue.assign(1, start);
     patch[start] = id;
     for (size_t i = 0; i < queue.size(); ++i)
       for (int k = 0; k < 3; ++k) {
@@ -626,17 +629,31 @@ std::vector<std::vector<int>> growPatches(const FaceGraph& graph, const std::vec
         patch[next] = id;
         queue.push_back(next);
       }
+    done(queue);
   }
+  return count;
+}
+
+template <class Separated>
+std::vector<std::vector<int>> growPatches(const FaceGraph& graph, const std::vector<int>& faces,
+                                          const std::vector<int>& seeds, int fewest,
+                                          std::vector<int>& patch, Separated separated) {
+  for (int f : faces) patch[f] = kUnassigned;
+  const int count = floodPatches(graph, seeds, patch, separated, [](const std::vector<int>&) {});
   return absorbSmallPatches(graph, faces, count, fewest, patch);
+}
+
+// Whether the edge between two faces is sharp (featurePatches' separation).
+bool sharpEdge(const FaceGraph& graph, int f, int next, double sharp_cos) {
+  return graph.normal[f].dot(graph.normal[next]) < sharp_cos;
 }
 
 }  // namespace
 
 std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
                                              double sharp_cos, int fewest, FaceScratch& scratch) {
-  return growPatches(graph, faces, faces, fewest, scratch.region, [&](int f, int, int next) {
-    return graph.normal[f].dot(graph.normal[next]) < sharp_cos;
-  });
+  return growPatches(graph, faces, faces, fewest, scratch.region,
+                     [&](int f, int, int next) { return sharpEdge(graph, f, next, sharp_cos); });
 }
 
 double secondFeaturePatchShare(const FaceGraph& graph, const std::vector<int>& faces,
@@ -644,32 +661,20 @@ double secondFeaturePatchShare(const FaceGraph& graph, const std::vector<int>& f
   std::vector<int>& patch = scratch.region;
   for (int f : faces) patch[f] = kUnassigned;
   double total = 0, largest = 0, second = 0;
-  std::vector<int> queue;
-  for (int start : faces) {
-    if (patch[start] != kUnassigned) continue;
-    queue.assign(1, start);
-    patch[start] = kMarked;
-    double area = 0;
-    for (size_t i = 0; i < queue.size(); ++i) {
-      const int f = queue[i];
-      area += graph.area[f];
-      for (int k = 0; k < 3; ++k) {
-        const int next = graph.across[3 * f + k];
-        if (next < 0 || patch[next] != kUnassigned ||
-            graph.normal[f].dot(graph.normal[next]) < sharp_cos)
-          continue;
-        patch[next] = kMarked;
-        queue.push_back(next);
-      }
-    }
-    total += area;
-    if (static_cast<int>(queue.size()) < fewest) continue;  // it would join a neighbour
-    if (area > largest) {
-      second = largest, largest = area;
-    } else {
-      second = std::max(second, area);
-    }
-  }
+  floodPatches(
+      graph, faces, patch,
+      [&](int f, int, int next) { return sharpEdge(graph, f, next, sharp_cos); },
+      [&](const std::vector<int>& members) {
+        double area = 0;
+        for (int f : members) area += graph.area[f];
+        total += area;
+        if (static_cast<int>(members.size()) < fewest) return;  // it would join a neighbour
+        if (area > largest) {
+          second = largest, largest = area;
+        } else {
+          second = std::max(second, area);
+        }
+      });
   for (int f : faces) patch[f] = kOutside;
   return total > 0 ? second / total : 0;
 }
