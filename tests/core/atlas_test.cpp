@@ -1016,14 +1016,16 @@ TEST(AtlasPack, AStripTooLongForTheTextureGoesAcrossItsDiagonal) {
   expectPackedCleanly(charts, packing, 256, options.gutter);
 }
 
-TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
-  // A flat square grid, each cell cut by the same diagonal: two parts grown from far seeds meet
-  // along a staircase of grid edges unless the border is straightened (ears moved across).
-  const int n = 24;
+// The unit square's (n + 1)^2 grid, each cell cut by the same diagonal, lifted to
+// height(u, v) (called once per vertex, row by row).
+Mesh gridSheet(int n, const std::function<double(double, double)>& height) {
   Mesh mesh;
   mesh.V.resize((n + 1) * (n + 1), 3);
   for (int y = 0; y <= n; ++y)
-    for (int x = 0; x <= n; ++x) mesh.V.row(y * (n + 1) + x) << double(x) / n, double(y) / n, 0;
+    for (int x = 0; x <= n; ++x) {
+      const double u = double(x) / n, v = double(y) / n;
+      mesh.V.row(y * (n + 1) + x) << u, v, height(u, v);
+    }
   mesh.F.resize(2 * n * n, 3);
   for (int y = 0, f = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
@@ -1031,6 +1033,28 @@ TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
       mesh.F.row(f++) << a, b, c;
       mesh.F.row(f++) << a, c, d;
     }
+  return mesh;
+}
+
+// The 3D length of the edges between faces of different parts.
+double cutLength(const Mesh& mesh, const Connectivity& connectivity,
+                 const std::vector<std::vector<int>>& parts) {
+  std::vector<int> part(mesh.F.rows(), -1);
+  for (size_t p = 0; p < parts.size(); ++p)
+    for (int f : parts[p]) part[f] = static_cast<int>(p);
+  double cut = 0;
+  for (int h = 0; h < 3 * static_cast<int>(mesh.F.rows()); ++h) {
+    const int t = connectivity.twin[h];
+    if (t > h && part[h / 3] != part[t / 3])
+      cut += (mesh.V.row(mesh.F(h / 3, h % 3)) - mesh.V.row(mesh.F(h / 3, (h % 3 + 1) % 3))).norm();
+  }
+  return cut;
+}
+
+TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
+  // A flat square grid, each cell cut by the same diagonal: two parts grown from far seeds meet
+  // along a staircase of grid edges unless the border is straightened (ears moved across).
+  const Mesh mesh = gridSheet(24, [](double, double) { return 0.0; });
   const Connectivity connectivity = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
   const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, connectivity);
   std::vector<int> faces(mesh.F.rows());
@@ -1038,17 +1062,8 @@ TEST(AtlasCharts, SplitBorderIsStraightenedNotAZigZag) {
   FaceScratch scratch(graph);
   const auto parts = splitFaces(graph, faces, 2, scratch);
   ASSERT_EQ(parts.size(), 2u);
-  std::vector<int> part(faces.size());
-  for (int p = 0; p < 2; ++p) {
-    EXPECT_TRUE(regionIsDisk(graph, parts[p], scratch));
-    for (int f : parts[p]) part[f] = p;
-  }
-  double cut = 0;
-  for (int h = 0; h < 3 * static_cast<int>(faces.size()); ++h) {
-    const int t = connectivity.twin[h];
-    if (t > h && part[h / 3] != part[t / 3])
-      cut += (mesh.V.row(mesh.F(h / 3, h % 3)) - mesh.V.row(mesh.F(h / 3, (h % 3 + 1) % 3))).norm();
-  }
+  for (int p = 0; p < 2; ++p) EXPECT_TRUE(regionIsDisk(graph, parts[p], scratch));
+  const double cut = cutLength(mesh, connectivity, parts);
   // The parts meet across the square: a straight cut there is 1 long; the border as grown is a
   // zig-zag about 15 % longer (1.15 here before the ears are moved, 1.03 after).
   EXPECT_LT(cut, 1.08) << cut;
@@ -1061,40 +1076,16 @@ TEST(AtlasCharts, NoiseOnSingleFacesDoesNotRagThePartsBorders) {
   // the faces' own normals, which the noise tilts by tens of degrees, they were 1.25 times as
   // long (charts.cpp: the growth normals are smoothed).
   const int n = 120;
-  auto cutLength = [&](double sigma) {
-    Mesh mesh;
-    mesh.V.resize((n + 1) * (n + 1), 3);
+  auto partsAndCut = [&](double sigma) {
     sdp::test::SplitMix64 random(7);
-    for (int y = 0; y <= n; ++y)
-      for (int x = 0; x <= n; ++x) {
-        const double u = double(x) / n, v = double(y) / n;
-        mesh.V.row(y * (n + 1) + x) << u, v,
-            0.1 * std::sin(3 * u) * std::cos(2 * v) + sigma / n * random.normal();
-      }
-    mesh.F.resize(2 * n * n, 3);
-    for (int y = 0, f = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const int a = y * (n + 1) + x, b = a + 1, c = a + n + 2, d = a + n + 1;
-        mesh.F.row(f++) << a, b, c;
-        mesh.F.row(f++) << a, c, d;
-      }
-    MeshGraph m(std::move(mesh));
+    MeshGraph m(gridSheet(n, [&](double u, double v) {
+      return 0.1 * std::sin(3 * u) * std::cos(2 * v) + sigma / n * random.normal();
+    }));
     const auto parts = splitFaces(m.graph, m.faces, 16, m.scratch);
-    std::vector<int> part(m.faces.size());
-    for (size_t p = 0; p < parts.size(); ++p)
-      for (int f : parts[p]) part[f] = static_cast<int>(p);
-    double cut = 0;
-    for (int h = 0; h < 3 * static_cast<int>(m.faces.size()); ++h) {
-      const int t = m.connectivity.twin[h];
-      if (t > h && part[h / 3] != part[t / 3])
-        cut +=
-            (m.mesh.V.row(m.mesh.F(h / 3, h % 3)) - m.mesh.V.row(m.mesh.F(h / 3, (h % 3 + 1) % 3)))
-                .norm();
-    }
-    return std::make_pair(parts.size(), cut);
+    return std::make_pair(parts.size(), cutLength(m.mesh, m.connectivity, parts));
   };
-  const auto [clean_parts, clean_cut] = cutLength(0);
-  const auto [noisy_parts, noisy_cut] = cutLength(0.15);
+  const auto [clean_parts, clean_cut] = partsAndCut(0);
+  const auto [noisy_parts, noisy_cut] = partsAndCut(0.15);
   EXPECT_EQ(noisy_parts, clean_parts);
   EXPECT_LT(noisy_cut, 1.1 * clean_cut) << noisy_cut << " against " << clean_cut;
 }
@@ -1102,21 +1093,8 @@ TEST(AtlasCharts, NoiseOnSingleFacesDoesNotRagThePartsBorders) {
 TEST(AtlasCharts, LargeSplitGrownInHalvesCoversEveryFaceOnceWithDisks) {
   // Over 200k faces the parts grow in two halves at once (charts.cpp): every face still in one
   // part, every part a disk, the scratch left as found, and the same parts on a second run.
-  const int n = 320;
-  Mesh mesh;
-  mesh.V.resize((n + 1) * (n + 1), 3);
-  for (int y = 0; y <= n; ++y)
-    for (int x = 0; x <= n; ++x) {
-      const double u = double(x) / n, v = double(y) / n;
-      mesh.V.row(y * (n + 1) + x) << u, v, 0.1 * std::sin(6 * u) * std::cos(4 * v);
-    }
-  mesh.F.resize(2 * n * n, 3);
-  for (int y = 0, f = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const int a = y * (n + 1) + x, b = a + 1, c = a + n + 2, d = a + n + 1;
-      mesh.F.row(f++) << a, b, c;
-      mesh.F.row(f++) << a, c, d;
-    }
+  const Mesh mesh =
+      gridSheet(320, [](double u, double v) { return 0.1 * std::sin(6 * u) * std::cos(4 * v); });
   ASSERT_GE(mesh.F.rows(), 200000);
   const Connectivity connectivity = analyzeConnectivity(mesh.F, static_cast<int>(mesh.V.rows()));
   const FaceGraph graph = buildFaceGraph(mesh.V, mesh.F, connectivity);
