@@ -21,10 +21,12 @@
 #include "core/atlas/convex_cut.h"
 #include "core/atlas/measure.h"
 #include "core/atlas/pack.h"
+#include "core/atlas/planar_chart.h"
 #include "core/atlas/raster.h"
 #include "core/common/connectivity.h"
 #include "core/common/error.h"
 #include "core/common/geometry.h"
+#include "core/common/metrics.h"
 #include "io/mesh_io.h"
 #include "scan_like_mesh.h"
 #include "test_mesh_files.h"
@@ -782,6 +784,116 @@ TEST(Atlas, ASheetWithSmallHolesIsOneChartAndARingIsCut) {
   const AtlasResult cut = makeAtlas(ring.V, ring.F, o);
   expectCertified(ring, cut, o);
   EXPECT_GE(cut.report.charts, 2);
+}
+
+// A thick-walled tube (a drilled hole's wall inside, a shaft's outside): two cylinders of n
+// sides and `rows` rows over height h, joined by flat rings at both ends, every rim a sharp edge,
+// faces wound outwards (into the hole on the inner wall).
+Mesh thickTube(int n, int rows, double inner, double outer, double h) {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::array<int, 3>> f;
+  // Rings of vertices: inner wall rows 0..rows, then outer wall rows 0..rows.
+  auto at = [&](int wall, int row, int i) { return (wall * (rows + 1) + row) * n + (i % n); };
+  for (int wall = 0; wall < 2; ++wall)
+    for (int row = 0; row <= rows; ++row)
+      for (int i = 0; i < n; ++i) {
+        const double angle = 2 * kPi * i / n, radius = wall == 0 ? inner : outer;
+        v.emplace_back(radius * std::cos(angle), radius * std::sin(angle), h * row / rows);
+      }
+  // The quad a b c d counter-clockwise seen from the side its normal points to.
+  auto quad = [&](int a, int b, int c, int d) {
+    f.push_back({a, b, c});
+    f.push_back({a, c, d});
+  };
+  for (int i = 0; i < n; ++i) {
+    for (int row = 0; row < rows; ++row) {
+      quad(at(1, row, i), at(1, row, i + 1), at(1, row + 1, i + 1), at(1, row + 1, i));
+      quad(at(0, row, i + 1), at(0, row, i), at(0, row + 1, i), at(0, row + 1, i + 1));
+    }
+    quad(at(0, rows, i), at(0, rows, i + 1), at(1, rows, i + 1), at(1, rows, i));  // top
+    quad(at(0, 0, i + 1), at(0, 0, i), at(1, 0, i), at(1, 0, i + 1));              // bottom
+  }
+  Mesh mesh;
+  mesh.V.resize(v.size(), 3);
+  for (size_t k = 0; k < v.size(); ++k) mesh.V.row(k) = v[k].transpose();
+  mesh.F.resize(f.size(), 3);
+  for (size_t k = 0; k < f.size(); ++k) mesh.F.row(k) << f[k][0], f[k][1], f[k][2];
+  return mesh;
+}
+
+TEST(AtlasCharts, ADevelopableDiskIsUnrolledExactlyACurvedOneIsNot) {
+  // Half of a cylinder's wall (a disk): its inner vertices have no angle defect.
+  const Mesh tube = thickTube(24, 3, 0.5, 1.0, 0.4);
+  std::vector<int> half;
+  for (int i = 0; i < 12; ++i)
+    for (int k = 0; k < 6; ++k) half.push_back(i * 16 + 4 * (k / 2) + k % 2);  // outer wall
+  Triangles F(half.size(), 3);
+  for (size_t f = 0; f < half.size(); ++f) F.row(f) = tube.F.row(half[f]);
+  // Its own vertices only, as a chart's are.
+  std::map<int, int> row;
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) row.emplace(F(f, k), static_cast<int>(row.size()));
+  Positions V(row.size(), 3);
+  for (const auto& [from, to] : row) V.row(to) = tube.V.row(from);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) F(f, k) = row.at(F(f, k));
+  const std::optional<std::vector<Eigen::Vector2d>> uv = unrollIfDevelopable(V, F);
+  ASSERT_TRUE(uv.has_value());
+  Layout layout;
+  layout.uv.resize(V.rows(), 2);
+  for (int v = 0; v < V.rows(); ++v) layout.uv.row(v) = (*uv)[v].transpose();
+  layout.face_uv = F;
+  const StretchMetrics stretch = layoutStretch(V, F, layout);
+  EXPECT_LT(stretch.linf, 1 + 1e-9);
+  for (int f = 0; f < F.rows(); ++f)  // counter-clockwise, as the faces run
+    EXPECT_GT(signedArea((*uv)[F(f, 0)], (*uv)[F(f, 1)], (*uv)[F(f, 2)]), 0);
+  // A sphere's cap curves: nothing.
+  const Mesh ball = sphere(2);
+  std::vector<int> cap;
+  for (int f = 0; f < ball.F.rows(); ++f)
+    if (ball.V.row(ball.F(f, 0)).z() > 0.3 && ball.V.row(ball.F(f, 1)).z() > 0.3 &&
+        ball.V.row(ball.F(f, 2)).z() > 0.3)
+      cap.push_back(f);
+  ASSERT_GT(cap.size(), 4u);
+  Triangles capF(cap.size(), 3);
+  for (size_t f = 0; f < cap.size(); ++f) capF.row(f) = ball.F.row(cap[f]);
+  EXPECT_FALSE(unrollIfDevelopable(ball.V, capF).has_value());
+}
+
+TEST(Atlas, AHolesWallIsUnrolledExactlyInFewCharts) {
+  // A plate's drilled hole: its wall is a ring, cut first into flat patches of 20 degrees (18
+  // around). Each piece, and any arc of them, is developable and is unrolled exactly; merged
+  // back their rectangles add up exactly (rounding had refused such merges, leaving 9 charts and
+  // their seams on each wall).
+  Mesh mesh = thickTube(36, 2, 0.5, 1.0, 0.1);
+  // Beside it a large square of its own, so that a wall unrolled whole is shorter than the
+  // square root of the mesh's area (a longer chart is halved for packing), as in a plate.
+  const int tube_vertices = static_cast<int>(mesh.V.rows());
+  mesh.V.conservativeResize(tube_vertices + 4, 3);
+  mesh.V.bottomRows(4) << 0, 0, 5, 8, 0, 5, 8, 8, 5, 0, 8, 5;
+  mesh.F.conservativeResize(mesh.F.rows() + 2, 3);
+  mesh.F.bottomRows(2) << tube_vertices, tube_vertices + 1, tube_vertices + 2, tube_vertices,
+      tube_vertices + 2, tube_vertices + 3;
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  for (int wall = 0; wall < 2; ++wall) {
+    std::set<int> charts;
+    for (int i = 0; i < 36; ++i)
+      for (int k = 0; k < 4; ++k) {
+        // Per step around: rows of (outer quad, inner quad), then the top and bottom quads.
+        const int face = i * 12 + (wall == 1 ? 0 : 2) + 4 * (k / 2) + k % 2;
+        charts.insert(r.layout.chart[face]);
+      }
+    EXPECT_LE(charts.size(), 3u) << (wall == 0 ? "inner" : "outer") << " wall";
+  }
+  int unrolled = 0;
+  for (const ChartReport& chart : r.report.chart_table)
+    if (chart.boundary_used == "developable unrolled") {
+      ++unrolled;
+      EXPECT_LT(chart.linf_stretch, 1 + 1e-9);
+    }
+  EXPECT_GE(unrolled, 2);
 }
 
 TEST(Atlas, AFlatFaceOfSliversIsProjectedWithoutStretch) {
