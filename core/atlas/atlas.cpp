@@ -85,7 +85,8 @@ double facesArea(const Positions& V, const Triangles& F, const std::vector<int>&
   return area;
 }
 
-// Flattens a disk-shaped face set by the patch pipeline; false when it refused.
+// Flattens a disk-shaped face set: projected when flat, unrolled when developable
+// (planar_chart.h), else by the patch pipeline; false when that refused.
 bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>& faces,
                   const Options& options, Chart& chart, std::string& why) {
   std::vector<int> local;
@@ -113,7 +114,10 @@ bool flattenChart(const Positions& V, const Triangles& F, const std::vector<int>
   chart.report.area = facesArea(V, F, faces);
   std::optional<std::vector<Eigen::Vector2d>> exact = projectIfPlanar(subV, sub);
   const char* exact_name = "planar projection";
-  if (!exact) exact = unrollIfDevelopable(subV, sub), exact_name = "developable unrolled";
+  if (!exact) {
+    exact = unrollIfDevelopable(subV, sub);
+    exact_name = "developable unrolled";
+  }
   if (exact) {
     chart.uv = std::move(*exact);
     Layout layout;

@@ -18,7 +18,7 @@ struct ConvexCut {
   Eigen::Vector2d normal = Eigen::Vector2d::UnitX();
   double offset = 0;
   double hull_gain = 0;  // convex hull area before minus the two sides' hull areas after
-  double length = 0;     // length of the line inside the chart (the new seam, in the plane)
+  double length = 0;     // length of the line inside the chart, in the plane
 };
 
 // The chart's border half-edges (from, to), as the faces run: those no other triangle has the

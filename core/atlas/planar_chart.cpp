@@ -97,7 +97,7 @@ std::optional<std::vector<Eigen::Vector2d>> unrollIfDevelopable(const Positions&
   });
   // Face f's corner k + 2 placed left of its edge k -> k + 1, already placed, at the face's own
   // shape: the faces run counter-clockwise in the plane as they run around their normals.
-  std::vector<Eigen::Vector2d> uv(vertices);
+  std::vector<Eigen::Vector2d> uv(vertices, Eigen::Vector2d::Zero());
   std::vector<char> placed(vertices, 0);
   auto placeThird = [&](int f, int k) {
     const Eigen::Vector3d e = corner(f, (k + 1) % 3) - corner(f, k),
@@ -126,13 +126,19 @@ std::optional<std::vector<Eigen::Vector2d>> unrollIfDevelopable(const Positions&
       if (!placed[F(g, (h % 3 + 2) % 3)]) placeThird(g, h % 3);
     }
   }
-  if (static_cast<int>(queue.size()) != faces) return std::nullopt;
-  Layout layout;
-  layout.uv.resize(vertices, 2);
-  for (int v = 0; v < vertices; ++v) layout.uv.row(v) = uv[v].transpose();
-  layout.face_uv = F;
-  const StretchMetrics stretch = layoutStretch(V, F, layout);
-  if (!(stretch.linf <= kMostUnrolledLinf)) return std::nullopt;
+  if (static_cast<int>(queue.size()) != faces ||
+      std::find(placed.begin(), placed.end(), 0) != placed.end())
+    return std::nullopt;
+  // Every face's edges at their 3D lengths: equal edges make an equal triangle, so this bounds
+  // each face's stretch either way (where the unrolling closes around a vertex, a face's last
+  // corner may be off by the defects summed on the way).
+  for (int f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const double flat = (uv[F(f, (k + 1) % 3)] - uv[F(f, k)]).norm();
+      const double real = (corner(f, (k + 1) % 3) - corner(f, k)).norm();
+      if (!(flat <= kMostUnrolledEdgeRatio * real && real <= kMostUnrolledEdgeRatio * flat))
+        return std::nullopt;
+    }
   if (!oneToOne(F, uv)) return std::nullopt;
   return uv;
 }

@@ -758,18 +758,24 @@ Mesh sheetWithHoles(int n, const std::vector<std::pair<int, int>>& removed) {
   return mesh;
 }
 
+// `mesh` with a square of side `side` beside it (two triangles at height z = 5): a piece of its
+// own, so that what the test looks at is not the whole mesh's area.
+Mesh withSquareBeside(Mesh mesh, double side) {
+  const int first = static_cast<int>(mesh.V.rows());
+  mesh.V.conservativeResize(first + 4, 3);
+  mesh.V.bottomRows(4) << 0, 0, 5, side, 0, 5, side, side, 5, 0, side, 5;
+  mesh.F.conservativeResize(mesh.F.rows() + 2, 3);
+  mesh.F.bottomRows(2) << first, first + 1, first + 2, first, first + 2, first + 3;
+  return mesh;
+}
+
 TEST(Atlas, ASheetWithSmallHolesIsOneChartAndARingIsCut) {
   // Holes of one quad each, far less than the sheet's area: the sheet is flattened whole, its
   // holes filled for the solve, so no seam runs from hole to hole.
   // Beside it a square of its own, so that the sheet is not the whole mesh (a chart longer than
   // the square root of the mesh's area is halved for packing).
-  Mesh drilled = sheetWithHoles(16, {{4, 4}, {11, 4}, {4, 11}, {11, 11}, {8, 8}});
-  const int sheet_vertices = static_cast<int>(drilled.V.rows());
-  drilled.V.conservativeResize(sheet_vertices + 4, 3);
-  drilled.V.bottomRows(4) << 0, 0, 5, 1, 0, 5, 1, 1, 5, 0, 1, 5;
-  drilled.F.conservativeResize(drilled.F.rows() + 2, 3);
-  drilled.F.bottomRows(2) << sheet_vertices, sheet_vertices + 1, sheet_vertices + 2, sheet_vertices,
-      sheet_vertices + 2, sheet_vertices + 3;
+  const Mesh drilled =
+      withSquareBeside(sheetWithHoles(16, {{4, 4}, {11, 4}, {4, 11}, {11, 11}, {8, 8}}), 1);
   const AtlasOptions o = quickOptions();
   const AtlasResult sheet = makeAtlas(drilled.V, drilled.F, o);
   expectCertified(drilled, sheet, o);
@@ -865,15 +871,9 @@ TEST(Atlas, AHolesWallIsUnrolledExactlyInFewCharts) {
   // around). Each piece, and any arc of them, is developable and is unrolled exactly; merged
   // back their rectangles add up exactly (rounding had refused such merges, leaving 9 charts and
   // their seams on each wall).
-  Mesh mesh = thickTube(36, 2, 0.5, 1.0, 0.1);
   // Beside it a large square of its own, so that a wall unrolled whole is shorter than the
   // square root of the mesh's area (a longer chart is halved for packing), as in a plate.
-  const int tube_vertices = static_cast<int>(mesh.V.rows());
-  mesh.V.conservativeResize(tube_vertices + 4, 3);
-  mesh.V.bottomRows(4) << 0, 0, 5, 8, 0, 5, 8, 8, 5, 0, 8, 5;
-  mesh.F.conservativeResize(mesh.F.rows() + 2, 3);
-  mesh.F.bottomRows(2) << tube_vertices, tube_vertices + 1, tube_vertices + 2, tube_vertices,
-      tube_vertices + 2, tube_vertices + 3;
+  const Mesh mesh = withSquareBeside(thickTube(36, 2, 0.5, 1.0, 0.1), 8);
   const AtlasOptions o = quickOptions();
   const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
   expectCertified(mesh, r, o);
