@@ -80,21 +80,21 @@ std::optional<std::vector<Eigen::Vector2d>> unrollIfDevelopable(const Positions&
                             b = corner(f, (k + 2) % 3) - corner(f, k);
       angle_sum[F(f, k)] += std::atan2(a.cross(b).norm(), a.dot(b));
     }
+  // From one sort of the half-edges: the border's vertices (an edge of one face) and, across
+  // each edge of two faces that run it opposite ways, the other face's half-edge.
   std::vector<char> on_border(vertices, 0);
-  for (const HalfEdgeKey& key : borderHalfEdges(F, vertices))
-    on_border[key.low] = 1, on_border[key.high] = 1;
-  for (int v = 0; v < vertices; ++v)
-    if (!on_border[v] && !(std::abs(2 * kPi - angle_sum[v]) <= kDevelopableDefect))
-      return std::nullopt;
-  // Across each edge of two faces that run it opposite ways: the other face's half-edge.
   std::vector<int> across(3 * faces, -1);
   const std::vector<HalfEdgeKey> keys = sortedHalfEdges(F, vertices);
   forEachEdgeRun(keys, [&](size_t begin, size_t end) {
+    if (end - begin == 1) on_border[keys[begin].low] = on_border[keys[begin].high] = 1;
     if (end - begin != 2) return;
     const int h = keys[begin].half_edge, g = keys[begin + 1].half_edge;
     if (F(h / 3, h % 3) == F(g / 3, g % 3)) return;  // both run it the same way
     across[h] = g, across[g] = h;
   });
+  for (int v = 0; v < vertices; ++v)
+    if (!on_border[v] && !(std::abs(2 * kPi - angle_sum[v]) <= kDevelopableDefect))
+      return std::nullopt;
   // Face f's corner k + 2 placed left of its edge k -> k + 1, already placed, at the face's own
   // shape: the faces run counter-clockwise in the plane as they run around their normals.
   std::vector<Eigen::Vector2d> uv(vertices, Eigen::Vector2d::Zero());

@@ -37,6 +37,16 @@ namespace {
 
 using test::Mesh;
 
+// The mesh of vertices v and triangles f.
+Mesh meshOf(const std::vector<Eigen::Vector3d>& v, const std::vector<std::array<int, 3>>& f) {
+  Mesh mesh;
+  mesh.V.resize(v.size(), 3);
+  for (size_t i = 0; i < v.size(); ++i) mesh.V.row(i) = v[i].transpose();
+  mesh.F.resize(f.size(), 3);
+  for (size_t i = 0; i < f.size(); ++i) mesh.F.row(i) << f[i][0], f[i][1], f[i][2];
+  return mesh;
+}
+
 // A torus of n x m quads (genus 1), radii R and r.
 Mesh torus(int n, int m, double R = 1.0, double r = 0.4) {
   Mesh mesh;
@@ -84,12 +94,7 @@ Mesh sphere(int levels) {
     }
     f.swap(next);
   }
-  Mesh mesh;
-  mesh.V.resize(v.size(), 3);
-  for (size_t i = 0; i < v.size(); ++i) mesh.V.row(i) = v[i].transpose();
-  mesh.F.resize(f.size(), 3);
-  for (size_t i = 0; i < f.size(); ++i) mesh.F.row(i) << f[i][0], f[i][1], f[i][2];
-  return mesh;
+  return meshOf(v, f);
 }
 
 // Both meshes in one (the second's vertices after the first's), moved apart along x.
@@ -633,12 +638,7 @@ Mesh box(int n, double sx, double sy, double sz) {
             f.push_back({p, t, r});
           }
         }
-  Mesh mesh;
-  mesh.V.resize(v.size(), 3);
-  for (size_t i = 0; i < v.size(); ++i) mesh.V.row(i) = v[i].transpose();
-  mesh.F.resize(f.size(), 3);
-  for (size_t i = 0; i < f.size(); ++i) mesh.F.row(i) << f[i][0], f[i][1], f[i][2];
-  return mesh;
+  return meshOf(v, f);
 }
 
 // A mesh with its connectivity, its face graph, every face listed and a scratch for them; built
@@ -819,11 +819,7 @@ Mesh thickTube(int n, int rows, double inner, double outer, double h) {
     quad(at(0, rows, i), at(0, rows, i + 1), at(1, rows, i + 1), at(1, rows, i));  // top
     quad(at(0, 0, i + 1), at(0, 0, i), at(1, 0, i), at(1, 0, i + 1));              // bottom
   }
-  Mesh mesh;
-  mesh.V.resize(v.size(), 3);
-  for (size_t k = 0; k < v.size(); ++k) mesh.V.row(k) = v[k].transpose();
-  mesh.F.resize(f.size(), 3);
-  for (size_t k = 0; k < f.size(); ++k) mesh.F.row(k) << f[k][0], f[k][1], f[k][2];
+  Mesh mesh = meshOf(v, f);
   return mesh;
 }
 
@@ -919,11 +915,7 @@ TEST(Atlas, AFlatFaceOfSliversIsProjectedWithoutStretch) {
       for (int k = 0; k < n; ++k) f.push_back({first + k, first + k + 1, first + n + 1});
       f.push_back({first, first + n + 1, first + n + 2});
     }
-  Mesh mesh;
-  mesh.V.resize(v.size(), 3);
-  for (size_t k = 0; k < v.size(); ++k) mesh.V.row(k) = v[k].transpose();
-  mesh.F.resize(f.size(), 3);
-  for (size_t k = 0; k < f.size(); ++k) mesh.F.row(k) << f[k][0], f[k][1], f[k][2];
+  const Mesh mesh = meshOf(v, f);
   const AtlasOptions o = quickOptions();
   const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
   expectCertified(mesh, r, o);
