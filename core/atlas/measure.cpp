@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -74,19 +75,36 @@ std::vector<int> chartsOfGroups(const Triangles& F, const Layout& layout, const 
   return chart;
 }
 
-// Owners are chart numbers (>= 0), kEmpty or kShared; kShared is the least, kEmpty the greatest
-// as the window minimum sees it (it is skipped).
-constexpr int kEmpty = std::numeric_limits<int>::max(), kShared = -1;
-
-// Bands of rows, each rastered by one thread into buffers of its own, grown by `reach` rows on
-// either side (faces reaching those rows are rastered by both bands), so the texture is never
-// held whole; the counts are sums of integers, the same in any order.
+// Bands of rows, each rastered by one thread, grown by `reach` rows on either side (faces
+// reaching those rows are rastered by both bands); the counts are sums of integers, the same in
+// any order.
 constexpr int kBandRows = 64;
 
-// One band's buffers: the owner of each pixel of its grown rows, their window minimum and
-// maximum along rows, and one row's worth of the rest.
+// The owner of pixels covered by triangles of two charts or more (as the gutter sees them).
+constexpr int kShared = -1;
+
+// A row's covered pixels x0..x1, all of one owner: a chart, or kShared.
+struct OwnerRun {
+  int x0, x1, owner;
+};
+
+// One band's buffers, reused from band to band: the triangles' spans per grown row, and the
+// owner runs per row.
 struct BandScratch {
-  std::vector<int> owner, low, high, seen, least, greatest;
+  struct Span {
+    int row, x0, x1, chart;
+  };
+  std::vector<Span> spans, by_row;
+  std::vector<int> row_begin, fill;
+  struct Event {
+    int x, delta, chart;  // a span starts (+1) or ends (-1) at x
+  };
+  std::vector<Event> events;                   // one row's
+  std::vector<std::pair<int, int>> active;     // (chart, spans covering)
+  std::vector<OwnerRun> runs;                  // every grown row's, in row order
+  std::vector<int> run_begin;                  // row r's: runs[run_begin[r] .. run_begin[r + 1])
+  std::vector<int> window_at;                  // per window row, a run
+  std::vector<std::pair<int, int>> intervals;  // a run's pixels near other owners
 };
 
 // The faces of each band of rows they may reach (grown by `reach`), and their corners in pixels.
@@ -132,59 +150,92 @@ FacesByBand facesByBand(const Layout& layout, int size, int reach) {
   return out;
 }
 
-// The covered pixels of rows [row_begin, row_end) whose gutter is broken, from the owners of the
-// rows [grown_begin, grown_end) around them (scratch.owner); the other buffers are scratch.
-long long gutterBreaks(BandScratch& scratch, int size, int reach, int row_begin, int row_end,
-                       int grown_begin, int grown_end) {
-  const std::vector<int>& owner = scratch.owner;
-  std::vector<int>&low = scratch.low, &high = scratch.high, &seen = scratch.seen;
-  std::vector<int>&least = scratch.least, &greatest = scratch.greatest;
-  // A covered pixel breaks the gutter when its window of (2 reach + 1)^2 pixels holds another
-  // owner or a shared pixel: when the window's least and greatest owners (empty ones
-  // skipped: the greatest reads them as kNone) differ. Both are taken along rows, then along
-  // columns, without branches (the passes visit every pixel of the texture).
-  constexpr int kNone = kShared - 1;
-  const int grown_rows = grown_end - grown_begin;
-  for (int y = 0; y < grown_rows; ++y) {
-    const int* row = &owner[static_cast<size_t>(y) * size];
-    int* row_low = &low[static_cast<size_t>(y) * size];
-    int* row_high = &high[static_cast<size_t>(y) * size];
-    for (int x = 0; x < size; ++x) seen[x] = row[x] == kEmpty ? kNone : row[x];
-    std::copy(row, row + size, row_low);
-    std::copy(seen.begin(), seen.end(), row_high);
-    // Shift by shift, each loop plain enough to run in vector registers.
-    for (int d = 1; d <= reach && d < size; ++d) {
-      for (int x = 0; x < size - d; ++x) {
-        row_low[x] = std::min(row_low[x], row[x + d]);
-        row_high[x] = std::max(row_high[x], seen[x + d]);
-      }
-      for (int x = d; x < size; ++x) {
-        row_low[x] = std::min(row_low[x], row[x - d]);
-        row_high[x] = std::max(row_high[x], seen[x - d]);
-      }
+// Turns the band's spans (scratch.spans, rows relative to the grown band of `rows` rows) into
+// owner runs per row (scratch.runs, scratch.run_begin); returns the pixels of rows
+// [core_begin, core_end) covered twice or more.
+long long ownerRuns(BandScratch& s, int rows, int core_begin, int core_end) {
+  s.row_begin.assign(rows + 1, 0);
+  for (const BandScratch::Span& span : s.spans) ++s.row_begin[span.row + 1];
+  for (int r = 0; r < rows; ++r) s.row_begin[r + 1] += s.row_begin[r];
+  s.by_row.resize(s.spans.size());
+  s.fill.assign(s.row_begin.begin(), s.row_begin.end() - 1);
+  for (const BandScratch::Span& span : s.spans) s.by_row[s.fill[span.row]++] = span;
+  s.runs.clear();
+  s.run_begin.assign(1, 0);
+  long long overlapping = 0;
+  for (int r = 0; r < rows; ++r) {
+    // A sweep along the row over the places where spans start and end: between two of them
+    // the covering spans, and so the owner, stay the same.
+    s.events.clear();
+    for (int i = s.row_begin[r]; i < s.row_begin[r + 1]; ++i) {
+      const BandScratch::Span& span = s.by_row[i];
+      s.events.push_back({span.x0, 1, span.chart});
+      s.events.push_back({span.x1 + 1, -1, span.chart});
     }
+    std::sort(s.events.begin(), s.events.end(),
+              [](const BandScratch::Event& a, const BandScratch::Event& b) { return a.x < b.x; });
+    s.active.clear();
+    int covering = 0;
+    const bool core = r >= core_begin && r < core_end;
+    for (size_t e = 0; e < s.events.size();) {
+      const int x = s.events[e].x;
+      for (; e < s.events.size() && s.events[e].x == x; ++e) {
+        const int chart = s.events[e].chart, delta = s.events[e].delta;
+        covering += delta;
+        auto it = std::find_if(s.active.begin(), s.active.end(),
+                               [&](const std::pair<int, int>& a) { return a.first == chart; });
+        if (it == s.active.end()) it = s.active.insert(s.active.end(), {chart, 0});
+        if ((it->second += delta) == 0) s.active.erase(it);
+      }
+      if (covering == 0 || e == s.events.size()) continue;
+      const int next = s.events[e].x;  // pixels x .. next - 1 are covered alike
+      if (core && covering >= 2) overlapping += next - x;
+      const int owner = s.active.size() == 1 ? s.active.front().first : kShared;
+      if (static_cast<int>(s.runs.size()) > s.run_begin.back() && s.runs.back().owner == owner &&
+          s.runs.back().x1 + 1 == x)
+        s.runs.back().x1 = next - 1;
+      else
+        s.runs.push_back({x, next - 1, owner});
+    }
+    s.run_begin.push_back(static_cast<int>(s.runs.size()));
   }
+  return overlapping;
+}
+
+// The covered pixels of rows [core_begin, core_end) (relative to the grown band of `rows` rows)
+// whose gutter is broken: whose window of (2 reach + 1)^2 pixels holds a pixel of another owner
+// or a shared one (itself included), from ownerRuns' runs.
+long long gutterBreaks(BandScratch& s, int rows, int reach, int core_begin, int core_end) {
   long long broken = 0;
-  for (int y = row_begin; y < row_end; ++y) {
-    const int at = y - grown_begin;
-    const int* row = &owner[static_cast<size_t>(at) * size];
-    const int from = std::max(0, at - reach), to = std::min(grown_rows - 1, at + reach);
-    std::copy(&low[static_cast<size_t>(from) * size], &low[static_cast<size_t>(from) * size] + size,
-              least.begin());
-    std::copy(&high[static_cast<size_t>(from) * size],
-              &high[static_cast<size_t>(from) * size] + size, greatest.begin());
-    for (int r = from + 1; r <= to; ++r) {
-      const int* r_low = &low[static_cast<size_t>(r) * size];
-      const int* r_high = &high[static_cast<size_t>(r) * size];
-      for (int x = 0; x < size; ++x) {
-        least[x] = std::min(least[x], r_low[x]);
-        greatest[x] = std::max(greatest[x], r_high[x]);
+  for (int r = core_begin; r < core_end; ++r) {
+    const int from = std::max(0, r - reach), window = std::min(rows - 1, r + reach) - from + 1;
+    // Per window row, the first run that may still reach row r's runs to come: a row's runs
+    // are sorted and disjoint, so their grown ends only increase.
+    s.window_at.resize(window);
+    for (int w = 0; w < window; ++w) s.window_at[w] = s.run_begin[from + w];
+    for (int i = s.run_begin[r]; i < s.run_begin[r + 1]; ++i) {
+      const OwnerRun run = s.runs[i];
+      if (run.owner == kShared) {
+        broken += run.x1 - run.x0 + 1;
+        continue;
+      }
+      s.intervals.clear();
+      for (int w = 0; w < window; ++w) {
+        const int end = s.run_begin[from + w + 1];
+        int& k = s.window_at[w];
+        while (k < end && s.runs[k].x1 + reach < run.x0) ++k;
+        for (int j = k; j < end && s.runs[j].x0 - reach <= run.x1; ++j)
+          if (s.runs[j].owner != run.owner)
+            s.intervals.emplace_back(std::max(run.x0, s.runs[j].x0 - reach),
+                                     std::min(run.x1, s.runs[j].x1 + reach));
+      }
+      std::sort(s.intervals.begin(), s.intervals.end());
+      int counted_to = INT_MIN;  // their union's pixels, each once
+      for (const auto& [low, high] : s.intervals) {
+        const int first = std::max(low, counted_to + 1);
+        if (high >= first) broken += high - first + 1, counted_to = high;
       }
     }
-    int row_broken = 0;
-    for (int x = 0; x < size; ++x)
-      row_broken += row[x] != kEmpty && (least[x] != greatest[x] || least[x] == kShared);
-    broken += row_broken;
   }
   return broken;
 }
@@ -206,37 +257,28 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   const auto& band_begin = banded.band_begin;
   const auto& band_face = banded.band_face;
   std::vector<long long> overlapping(bands, 0), violations(bands, 0);
+  // In runs of pixels, not pixels: the cost follows the triangles' rows, not the texture's area
+  // (a small part's check at 4096^2 filled and swept 16M pixels several times over).
   parallelFor(bands, 1, [&](int begin, int end, int worker) {
-    const size_t rows = kBandRows + 2 * reach;
-    BandScratch s{std::vector<int>(rows * size), std::vector<int>(rows * size),
-                  std::vector<int>(rows * size), std::vector<int>(size),
-                  std::vector<int>(size),        std::vector<int>(size)};
-    std::vector<int>& owner = s.owner;
-    std::vector<unsigned char> covers(static_cast<size_t>(kBandRows) * size);
+    BandScratch s;
     for (int b = begin; b < end; ++b) {
       const int row_begin = b * kBandRows, row_end = std::min(size, row_begin + kBandRows);
       const int grown_begin = std::max(0, row_begin - reach);
       const int grown_end = std::min(size, row_end + reach);
-      std::fill(owner.begin(), owner.end(), kEmpty);
-      std::fill(covers.begin(), covers.end(), 0);
+      s.spans.clear();
       for (int i = band_begin[b]; i < band_begin[b + 1]; ++i) {
         const int f = band_face[i];
         const int c = chart.empty() ? 0 : chart[f];
-        // Per run of a row, in loops plain enough to run in vector registers.
         coveredSpansInRows(corners[f].data(), size, grown_begin, grown_end,
                            [&](int y, int x0, int x1) {
-                             int* o = &owner[static_cast<size_t>(y - grown_begin) * size];
-                             for (int x = x0; x <= x1; ++x)
-                               o[x] = o[x] == kEmpty || o[x] == c ? c : kShared;
-                             if (y < row_begin || y >= row_end) return;
-                             unsigned char* n = &covers[static_cast<size_t>(y - row_begin) * size];
-                             for (int x = x0; x <= x1; ++x) n[x] = n[x] < 255 ? n[x] + 1 : 255;
+                             s.spans.push_back({y - grown_begin, x0, x1, c});
                            });
       }
-      for (size_t at = 0; at < static_cast<size_t>(row_end - row_begin) * size; ++at)
-        overlapping[b] += covers[at] >= 2;
-      if (reach == 0) continue;  // a gutter of one texel: neighbours may belong to any chart
-      violations[b] = gutterBreaks(s, size, reach, row_begin, row_end, grown_begin, grown_end);
+      const int rows = grown_end - grown_begin;
+      const int core_begin = row_begin - grown_begin, core_end = row_end - grown_begin;
+      overlapping[b] = ownerRuns(s, rows, core_begin, core_end);
+      // A gutter of one texel: neighbours may belong to any chart.
+      if (reach > 0) violations[b] = gutterBreaks(s, rows, reach, core_begin, core_end);
       if (worker == 0 && progress) progress(static_cast<double>(b + 1 - begin) / (end - begin));
     }
   });

@@ -233,55 +233,59 @@ TEST(AtlasRaster, ConservativeCellsHoldEveryCoveredPixel) {
 
 TEST(AtlasMeasures, PixelBandsCountAsOneRasterOfTheWholeTexture) {
   // Triangles across many 64-row bands, overlapping and near each other: the banded, parallel
-  // count equals a direct count over the whole texture.
-  const int size = 300, triangles = 40;
-  Layout layout;
-  layout.uv.resize(3 * triangles, 2);
-  layout.face_uv.resize(triangles, 3);
-  std::vector<int> chart(triangles);
-  unsigned state = 12345;
-  auto next = [&] { return (state = state * 1103515245u + 12345u) / 4294967296.0; };
-  for (int f = 0; f < triangles; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      layout.uv.row(3 * f + k) << next(), next();
-      layout.face_uv(f, k) = 3 * f + k;
-    }
-    chart[f] = f % 7;
-  }
-  std::vector<int> covers(size * size, 0), owner(size * size, -1);
-  for (int f = 0; f < triangles; ++f) {
-    Eigen::Vector2d q[3];
-    for (int k = 0; k < 3; ++k) q[k] = (layout.corner(f, k) * size).transpose();
-    coveredPixels(q, size, size, [&](int x, int y) {
-      ++covers[y * size + x];
-      int& o = owner[y * size + x];
-      o = o == -1 || o == chart[f] ? chart[f] : -2;
-    });
-  }
-  for (const int gutter : {1, 2, 3, 6}) {
-    // The measure works in bands of rows with halos of gutter - 1 rows; this counts directly.
-    const int reach = gutter - 1;
-    long long overlapping = 0, violations = 0;
-    for (int y = 0; y < size; ++y)
-      for (int x = 0; x < size; ++x) {
-        const int c = owner[y * size + x];
-        overlapping += covers[y * size + x] >= 2;
-        if (c == -1 || reach == 0) continue;
-        bool bad = c == -2;
-        for (int dy = -reach; dy <= reach; ++dy)
-          for (int dx = -reach; dx <= reach; ++dx) {
-            const int nx = x + dx, ny = y + dy;
-            if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
-            const int o = owner[ny * size + nx];
-            bad = bad || (o != -1 && o != c);
-          }
-        violations += bad;
+  // count (in runs of pixels) equals a direct count over the whole texture, pixel by pixel. Few
+  // large triangles, and many small ones (many short runs per row).
+  const int size = 300;
+  for (const auto& [triangles, extent] : {std::pair<int, double>{40, 1.0}, {3000, 0.03}}) {
+    Layout layout;
+    layout.uv.resize(3 * triangles, 2);
+    layout.face_uv.resize(triangles, 3);
+    std::vector<int> chart(triangles);
+    unsigned state = 12345;
+    auto next = [&] { return (state = state * 1103515245u + 12345u) / 4294967296.0; };
+    for (int f = 0; f < triangles; ++f) {
+      const double x = next() * (1 - extent), y = next() * (1 - extent);
+      for (int k = 0; k < 3; ++k) {
+        layout.uv.row(3 * f + k) << x + extent * next(), y + extent * next();
+        layout.face_uv(f, k) = 3 * f + k;
       }
-    const PixelMeasures m = measurePixels(layout, chart, size, gutter);
-    EXPECT_GT(overlapping, 1000);
-    EXPECT_EQ(m.overlapping_pixels, overlapping) << gutter;
-    EXPECT_EQ(m.gutter_violations, violations) << gutter;
-    if (reach > 0) EXPECT_GT(violations, overlapping) << gutter;
+      chart[f] = f % 7;
+    }
+    std::vector<int> covers(size * size, 0), owner(size * size, -1);
+    for (int f = 0; f < triangles; ++f) {
+      Eigen::Vector2d q[3];
+      for (int k = 0; k < 3; ++k) q[k] = (layout.corner(f, k) * size).transpose();
+      coveredPixels(q, size, size, [&](int x, int y) {
+        ++covers[y * size + x];
+        int& o = owner[y * size + x];
+        o = o == -1 || o == chart[f] ? chart[f] : -2;
+      });
+    }
+    for (const int gutter : {1, 2, 3, 6}) {
+      // The measure works in bands of rows with halos of gutter - 1 rows; this counts directly.
+      const int reach = gutter - 1;
+      long long overlapping = 0, violations = 0;
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const int c = owner[y * size + x];
+          overlapping += covers[y * size + x] >= 2;
+          if (c == -1 || reach == 0) continue;
+          bool bad = c == -2;
+          for (int dy = -reach; dy <= reach; ++dy)
+            for (int dx = -reach; dx <= reach; ++dx) {
+              const int nx = x + dx, ny = y + dy;
+              if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
+              const int o = owner[ny * size + nx];
+              bad = bad || (o != -1 && o != c);
+            }
+          violations += bad;
+        }
+      const PixelMeasures m = measurePixels(layout, chart, size, gutter);
+      EXPECT_GT(overlapping, 1000) << triangles;
+      EXPECT_EQ(m.overlapping_pixels, overlapping) << triangles << " " << gutter;
+      EXPECT_EQ(m.gutter_violations, violations) << triangles << " " << gutter;
+      if (reach > 0) EXPECT_GT(violations, overlapping) << triangles << " " << gutter;
+    }
   }
 }
 
