@@ -112,7 +112,9 @@ options:
   text += optionHelp("--quiet", "Do not print the report.");
   text += optionHelp("--progress",
                      "Print the progress a front end's bar gets to stderr, a line per call of its "
-                     "callback: `progress STAGE PERCENT% SECONDS`.");
+                     "callback: `progress STAGE PERCENT% SECONDS`; with --atlas also the bar of "
+                     "each stage, as MeshLab shows it: `stage NAME STAGE_PERCENT% RUN_PERCENT% "
+                     "SECONDS`.");
   text += optionHelp("--help", "Show this help.");
   text += optionHelp("--version", "Show the version.");
   text += optionHelp("--", "End of options (for file names starting with '-').");
@@ -337,7 +339,16 @@ sdp::ProgressCallback progressPrinter(const Arguments& args) {
 int runAtlas(const Arguments& args, const sdp::io::MeshData& mesh) {
   sdp::atlas::AtlasOptions options = sdp::filter::toAtlasOptions(args.values);
   options.storage = storageFor(args);
-  if (args.progress) options.chart.progress = progressPrinter(args);
+  if (args.progress) {
+    options.chart.progress = progressPrinter(args);
+    // The stage's own bar too, as MeshLab shows it.
+    const auto start = std::chrono::steady_clock::now();
+    options.stage_progress = [start](const char* stage, int stage_percent, int run_percent) {
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::fprintf(stderr, "stage %s %d%% %d%% %.2f\n", stage, stage_percent, run_percent, seconds);
+    };
+  }
   sdp::atlas::AtlasResult result = sdp::atlas::makeAtlas(mesh.V, mesh.F, options);
   std::vector<std::string>& notes = result.report.notes;
   notes.insert(notes.begin(), mesh.notes.begin(), mesh.notes.end());

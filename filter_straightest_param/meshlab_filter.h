@@ -165,6 +165,20 @@ sdp::ProgressCallback progressTo(CallBackPos* cb, std::string prefix, std::strin
   };
 }
 
+// MeshLab's progress callback as the atlas's stage bar (AtlasOptions::stage_progress): MeshLab
+// redraws only when the bar's position moves, and at millions of faces the run's percentage
+// moves every few seconds; the text names the stage and the run's percentage.
+template <class CallBackPos>
+sdp::atlas::StageProgressCallback stageProgressTo(CallBackPos* cb, std::string prefix,
+                                                  std::string suffix) {
+  if (cb == nullptr) return {};
+  return [cb, prefix, suffix](const char* stage, int stage_percent, int run_percent) {
+    const std::string text =
+        prefix + stage + " (" + std::to_string(run_percent) + "% of the atlas)" + suffix;
+    cb(stage_percent, text.c_str());
+  };
+}
+
 struct MeshModelRun {
   vcg_adapter::MeshRun run;            // its report describes the UVs as the mesh now holds them
   CheckerTexture texture;              // written, not yet attached
@@ -238,13 +252,13 @@ struct MeshModelAtlas {
 // (wedge UVs, per-face quality and the per-face attribute `chart` only).
 template <class MeshModelT, class ParameterList>
 MeshModelAtlas atlasMeshModel(MeshModelT& mm, const ParameterList& parameters,
-                              const sdp::ProgressCallback& progress) {
+                              const sdp::atlas::StageProgressCallback& progress) {
   using Mesh = std::decay_t<decltype(mm.cm)>;
   const sdp::filter::FilterValues values = readFilterValues(parameters, Filter::Atlas);
   textureFileName(values.texture_name);
   sdp::atlas::AtlasOptions options = sdp::filter::toAtlasOptions(values);
   options.storage = sdp::UVStorage::FloatAndSixDecimals;
-  options.chart.progress = progress;
+  options.stage_progress = progress;
   MeshModelAtlas out{vcg_adapter::atlasOnMesh(mm.cm, options, values.selected_only), {}};
   const auto stored = vcg_adapter::prepareLayout<Mesh>(out.run.input, out.run.result.layout,
                                                        out.run.result.face_stretch);

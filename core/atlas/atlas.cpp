@@ -317,17 +317,84 @@ constexpr int kMostMergePasses = 8;
 // it from 1.56 to 1.62 (docs/measurements.md).
 constexpr double kMergedBoxTolerance = 5e-3;
 
+// The progress bar, in percent where each stage starts (kAtlasStages): the connectivity, the
+// first cut (counted in faces), the charts' rounds (by faces flattened, then charts decided),
+// merging (by faces flattened of its budget), the packing tries (by charts placed, weighed by
+// their size; packAndStore), storage and measures. Shares near the stages' time on the scans
+// bench's 5.47M- and 13.6M-face scans with noise (`stage_seconds`: cut 13 and 18 %, charts 42
+// and 32 %, merging 14 and 17 %, packing 20 and 23 %), so that at about 5M faces the run's
+// percentage moves every two seconds or less (bench/scans.py's progress column).
+// The connectivity analysis moves the bar a percent per step (makeAtlas), the face graph one
+// more (the analysis's last step and the face graph waited 3.6 s for one at 5.47M faces).
+constexpr int kConnectivityPercent = 3, kCutPercent = 5, kFlattenPercent = 19, kMergePercent = 54,
+              kPackPercent = 69, kStorePercent = 91, kMeasurePercent = 96;
+static_assert(kAtlasStages[1].from == kCutPercent && kAtlasStages[2].from == kFlattenPercent &&
+              kAtlasStages[3].from == kMergePercent && kAtlasStages[4].from == kPackPercent &&
+              kAtlasStages[5].from == kStorePercent && kAtlasStages[6].from == kMeasurePercent);
+
+// The run's progress as the front ends get it, on the calling thread (their callbacks are not
+// thread-safe), never backwards: chart.progress gets the run's percentage when it moves, or a
+// second after the last call (a front end that redraws in its callback stays responsive);
+// stage_progress gets the stage's own percentage when it or the stage moves.
+class ProgressBar {
+ public:
+  explicit ProgressBar(const AtlasOptions& options)
+      : run_(options.chart.progress), stage_(options.stage_progress) {}
+
+  // `percent` of the run, fractions included; false when the user cancelled. `call`: the run's
+  // callback is called even when nothing moved.
+  bool report(double percent, bool call = false) {
+    percent = std::max(std::clamp(percent, 0.0, 100.0), percent_);
+    percent_ = percent;
+    const int whole = static_cast<int>(percent);
+    bool go_on = true;
+    if (run_ && (call || whole > whole_ || secondsSince(last_call_) >= 1.0)) {
+      last_call_ = Clock::now();
+      go_on = run_("atlas", whole);
+    }
+    whole_ = std::max(whole, whole_);
+    if (stage_) {
+      int stage = 0;
+      while (stage + 1 < static_cast<int>(std::size(kAtlasStages)) &&
+             kAtlasStages[stage + 1].from <= percent)
+        ++stage;
+      const double from = kAtlasStages[stage].from;
+      const double to = stage + 1 < static_cast<int>(std::size(kAtlasStages))
+                            ? kAtlasStages[stage + 1].from
+                            : 100.0;
+      const int own = std::clamp(static_cast<int>(100 * (percent - from) / (to - from)), 0, 100);
+      if (stage != stage_index_ || own > stage_percent_) {
+        stage_index_ = stage;
+        stage_percent_ = own;
+        stage_(kAtlasStages[stage].name, own, whole);
+      }
+    }
+    return go_on;
+  }
+  int percent() const { return whole_; }  // the run's, the last reported (-1 before any)
+
+ private:
+  const ProgressCallback& run_;
+  const StageProgressCallback& stage_;
+  double percent_ = 0;
+  int whole_ = -1;
+  int stage_index_ = -1, stage_percent_ = -1;
+  Clock::time_point last_call_ = Clock::now();
+};
+
 class AtlasBuilder {
  public:
   // `start`: when the run began (the connectivity of `F`, checked, is its first stage).
   AtlasBuilder(const Positions& V, const Triangles& F, const AtlasOptions& options,
-               Clock::time_point start)
-      : V_(V), F_(F), options_(options), start_(start) {}
+               Clock::time_point start, ProgressBar& bar)
+      : V_(V), F_(F), options_(options), start_(start), bar_(bar) {}
 
   AtlasResult run(const Connectivity& connectivity) {
     report(kConnectivityPercent);
     auto stage = start_;
-    FaceGraph graph = buildFaceGraph(V_, F_, connectivity);
+    int graph_step = 0;  // the face graph's passes: seconds apart at millions of faces
+    FaceGraph graph = buildFaceGraph(V_, F_, connectivity,
+                                     [&] { report(kConnectivityPercent + 0.2 * ++graph_step); });
     edges_all_joined_ =
         connectivity.non_manifold_edges == 0 && connectivity.inconsistent_edges == 0;
     report(kConnectivityPercent + 1);
@@ -346,7 +413,7 @@ class AtlasBuilder {
       for (int k = 0; k < 3; ++k)
         edge_sum += (V_.row(F_(f, k)) - V_.row(F_(f, (k + 1) % 3))).norm(), ++edge_count;
     }
-    report(kConnectivityPercent + 1);  // a call, not a move: each loop above is seconds at 13M
+    report(kConnectivityPercent + 1.4);  // each loop above takes seconds at 13M faces
     if (edge_count == 0)
       throw ParameterizationError("every face has zero area (no surface to flatten)");
     const double mean_edge = edge_sum / edge_count;
@@ -359,13 +426,14 @@ class AtlasBuilder {
         charts_.push_back(singleFaceChart(V_, F_, f, true, mean_edge));
       }
     std::vector<std::vector<int>> pieces = components(graph);
-    report(kConnectivityPercent + 1);  // a call, not a move: the cut starts at kCutPercent
+    report(kConnectivityPercent + 1.6);
     r.components = static_cast<int>(pieces.size());
     checkRoomForCharts(r.zero_area_faces + r.components);
     growByOwnNormalsOnMechanicalPieces(graph, pieces);
     report(kCutPercent);
     addToStage(r.stage_seconds, "cut", secondsSince(stage));
     makeCharts(graph, std::move(pieces));
+    report(kMergePercent);  // every stage's bar starts, merging or not
     if (options_.merge_charts) mergeCharts(graph);
     scratch_.clear();  // about 12 bytes a face each: not kept through packing and storage
 
@@ -411,36 +479,16 @@ class AtlasBuilder {
           std::to_string(most) + "): raise the texture size or lower the gutter");
   }
 
-  // The progress bar, in percent where each stage starts: the connectivity, the first cut
-  // (counted in faces), the charts' rounds (by faces flattened, then charts decided), merging
-  // (by faces flattened of its budget), the packing tries (by charts placed, weighed by their
-  // size; packAndStore), storage and measures. Shares near the stages' time on the scans bench's
-  // 5.47M- and 13.6M-face scans with noise (`stage_seconds`: cut 13 and 18 %, charts 42 and
-  // 32 %, merging 14 and 17 %, packing 20 and 23 %), so that at about 5M faces the bar moves
-  // every two seconds or less (bench/scans.py's progress column).
-  // The connectivity analysis moves the bar a percent per step (makeAtlas), the face graph one
-  // more (the analysis's last step and the face graph waited 3.6 s for one at 5.47M faces).
-  static constexpr int kConnectivityPercent = 3, kCutPercent = 5, kFlattenPercent = 19,
-                       kMergePercent = 54, kPackPercent = 69, kStorePercent = 91,
-                       kMeasurePercent = 96;
-
-  // Calls the user's progress callback when the percentage moved, or a second after the last
-  // call (a front end that redraws in its callback stays responsive), on the calling thread only
-  // (front ends' callbacks are not thread-safe): never backwards; a cancel is noted and thrown.
-  void report(int percent) {
+  // Reports `percent` of the run (ProgressBar), on the calling thread only; a cancel is noted
+  // (for the workers) and thrown.
+  void report(double percent) {
     if (std::this_thread::get_id() != caller_) return;
-    const ProgressCallback& callback = options_.chart.progress;
-    percent = std::max(std::clamp(percent, 0, 100), last_percent_);
-    if (callback && (percent > last_percent_ || secondsSince(last_call_) >= 1.0)) {
-      last_call_ = Clock::now();
-      if (!callback("atlas", percent)) cancelled_ = true;
-    }
-    last_percent_ = percent;
+    if (!bar_.report(percent)) cancelled_ = true;
     if (cancelled_) throw ParameterizationError("cancelled by the user");
   }
   // `done` of `expected` of the part of the bar from `from` to `to`.
-  void reportWithin(int from, int to, double done, double expected) {
-    report(from + static_cast<int>((to - from) * std::min(1.0, done / std::max(expected, 1.0))));
+  void reportWithin(double from, double to, double done, double expected) {
+    report(from + (to - from) * std::min(1.0, done / std::max(expected, 1.0)));
   }
 
   // A set of faces still to be charted, with the part of an earlier map it may keep.
@@ -488,7 +536,7 @@ class AtlasBuilder {
       double round_faces = 0;
       for (const Piece& disk : disks) round_faces += static_cast<double>(disk.faces.size());
       std::atomic<int> done_faces{0};
-      const int split_from = static_cast<int>(round_from + 0.9 * (round_to - round_from));
+      const double split_from = round_from + 0.9 * (round_to - round_from);
       parallelForAlongside(
           static_cast<int>(disks.size()), 1, [] {},
           [&](int begin, int end, int worker) {
@@ -503,8 +551,7 @@ class AtlasBuilder {
                 ok[i] = flattenChart(V_, F_, faces, chartOptions(faces.size()), flat[i], why);
               }
               done_faces += static_cast<int>(faces.size());
-              if (worker == 0)
-                reportWithin(static_cast<int>(round_from), split_from, done_faces, round_faces);
+              if (worker == 0) reportWithin(round_from, split_from, done_faces, round_faces);
             }
           });
       if (cancelled_) throw ParameterizationError("cancelled by the user");
@@ -519,7 +566,7 @@ class AtlasBuilder {
       std::atomic<int> decided{0};
       forEachWithScratch(graph, static_cast<int>(disks.size()), [&](int i, FaceScratch& scratch) {
         outcomes[i] = outcome(graph, disks[i].faces, flat[i], ok[i], scratch);
-        reportWithin(split_from, static_cast<int>(round_to), ++decided, disks.size());
+        reportWithin(split_from, round_to, ++decided, disks.size());
       });
       for (size_t i = 0; i < disks.size(); ++i) {
         Outcome& o = outcomes[i];
@@ -531,7 +578,7 @@ class AtlasBuilder {
         for (Piece& piece : o.pieces) pending.push_back(std::move(piece));
       }
       addToStage(r.stage_seconds, "split", secondsSince(stage));
-      report(static_cast<int>(round_to));
+      report(round_to);
       round_from = round_to;
     }
   }
@@ -733,7 +780,7 @@ class AtlasBuilder {
       expected += 4.5 * static_cast<double>(pieces[i].faces.size());
       if (pieces[i].faces.size() > pieces[largest].faces.size()) largest = static_cast<int>(i);
     }
-    const bool first = last_percent_ < kFlattenPercent;
+    const bool first = bar_.percent() < kFlattenPercent;
     const GrowthProgress growth = [&](int faces) {
       grown += faces;
       if (first) reportWithin(kCutPercent, kFlattenPercent, grown, expected);
@@ -1003,6 +1050,7 @@ class AtlasBuilder {
   }
 
   void packAndStore() {
+    report(kPackPercent);
     AtlasReport& r = result_.report;
     // Each chart at the scale that minimizes the whole atlas's L2 (s^2 proportional to its L2
     // times its 3D over UV area): the atlas's L2 is then the area-weighted mean of the charts'.
@@ -1030,7 +1078,7 @@ class AtlasBuilder {
       double from = 0, to = 0.45;  // of the room
       for (int a = 0; a < attempt; ++a) from = to, to = a == 0 ? 0.8 : to + 0.5 * (1 - to);
       const double part = from + (to - from) * timeline->timeDone(done, attempt);
-      report(kPackPercent + static_cast<int>((kStorePercent - kPackPercent) * part));
+      report(kPackPercent + (kStorePercent - kPackPercent) * part);
     };
     for (int attempt = 0;; ++attempt) {
       auto stage = Clock::now();
@@ -1046,9 +1094,9 @@ class AtlasBuilder {
       const StorageCounts counts =
           store(layout, policy, [&] { report(kStorePercent + ++store_step); });
       report(kStorePercent + 3);
-      const PixelMeasures pixels = measurePixels(
-          layout, layout.chart, options_.texture_size, options_.gutter,
-          [this](double done) { report(kStorePercent + 3 + static_cast<int>(2.99 * done)); });
+      const PixelMeasures pixels =
+          measurePixels(layout, layout.chart, options_.texture_size, options_.gutter,
+                        [this](double done) { report(kStorePercent + 3 + 2.99 * done); });
       addToStage(r.stage_seconds, "store", secondsSince(stage));
       if (pixels.overlapping_pixels == 0 && pixels.gutter_violations == 0) {
         r.texels_per_unit = packing.texels_per_unit;
@@ -1149,8 +1197,7 @@ class AtlasBuilder {
   const AtlasOptions& options_;
   const Clock::time_point start_;
   const std::thread::id caller_ = std::this_thread::get_id();
-  int last_percent_ = -1;  // the last percentage reported, on the calling thread
-  Clock::time_point last_call_ = Clock::now();
+  ProgressBar& bar_;
   AtlasResult result_;
   std::vector<Chart> charts_;
   static constexpr int kMostScratchWorkers = 4;
@@ -1168,14 +1215,14 @@ class AtlasBuilder {
 // in the face's own order, so such a face's UV triangle runs clockwise: counted, not a fold.
 AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const AtlasOptions& options,
                                const Connectivity& input, Clock::time_point start,
-                               const std::function<void()>& step) {
+                               const std::function<void()>& step, ProgressBar& bar) {
   const std::vector<char> turn = coherentOrientation(F, input);
   Triangles turned = F;
   int turned_faces = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (turn[f]) std::swap(turned(f, 1), turned(f, 2)), ++turned_faces;
   const Connectivity connectivity = analyzeConnectivity(turned, static_cast<int>(V.rows()), step);
-  AtlasResult result = AtlasBuilder(V, turned, options, start).run(connectivity);
+  AtlasResult result = AtlasBuilder(V, turned, options, start, bar).run(connectivity);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (turn[f]) std::swap(result.layout.face_uv(f, 1), result.layout.face_uv(f, 2));
   AtlasReport& r = result.report;
@@ -1198,9 +1245,9 @@ AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions
     const Clock::time_point start = Clock::now();
     // The bar starts before the connectivity, which takes seconds at millions of faces, and
     // moves with each of its three steps (to 3 %, where the builder starts).
+    ProgressBar bar(options);
     auto call = [&](int percent) {
-      if (options.chart.progress && !options.chart.progress("atlas", percent))
-        throw ParameterizationError("cancelled by the user");
+      if (!bar.report(percent, true)) throw ParameterizationError("cancelled by the user");
     };
     call(0);
     checkInput(V, F, options);
@@ -1209,8 +1256,8 @@ AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions
     const std::function<void()> step = [&] { call(std::min(++steps, 3)); };
     const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()), step);
     if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
-      return atlasOfTurnedFaces(V, F, options, connectivity, start, step);
-    return AtlasBuilder(V, F, options, start).run(connectivity);
+      return atlasOfTurnedFaces(V, F, options, connectivity, start, step, bar);
+    return AtlasBuilder(V, F, options, start, bar).run(connectivity);
   } catch (const std::bad_alloc&) {
     throw ParameterizationError("not enough memory to make an atlas of a mesh of " +
                                 std::to_string(V.rows()) + " vertices and " +

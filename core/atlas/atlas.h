@@ -11,6 +11,7 @@
 //                  gutter checked on the stored values (measure.h)
 #pragma once
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,6 +40,9 @@ inline Options atlasChartDefaults() {
   return o;
 }
 
+using StageProgressCallback =
+    std::function<void(const char* stage, int stage_percent, int run_percent)>;
+
 // What the user chooses. `chart` carries the patch pipeline's choices for every chart (weights,
 // boundary, refinement steps, progress callback); its fit_unit_square and storage are ignored.
 struct AtlasOptions {
@@ -56,6 +60,22 @@ struct AtlasOptions {
   // Neighbouring charts are merged back where the merged chart keeps the limits (fewer charts,
   // less seam); false keeps the charts as split (kept for the bench's comparison).
   bool merge_charts = true;
+  // A bar per stage, for front ends that redraw only when the bar's position moves (MeshLab):
+  // the run's percentage moves every few seconds at millions of faces. Called on the calling
+  // thread with the stage (kAtlasStages), its own percent done and the run's percent, whenever
+  // either moves; chart.progress still gets the run's percentage and may cancel.
+  StageProgressCallback stage_progress;
+};
+
+// The atlas's stages as stage_progress names them, in run order, each with the percent of the
+// run where it starts.
+struct AtlasStage {
+  const char* name;
+  int from;
+};
+inline constexpr AtlasStage kAtlasStages[] = {
+    {"connectivity", 0}, {"cut", 5},    {"charts", 19},  {"merge", 54},
+    {"pack", 69},        {"store", 91}, {"measure", 96},
 };
 
 struct ChartReport {

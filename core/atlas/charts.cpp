@@ -249,7 +249,8 @@ std::vector<Eigen::Vector3f> smoothedNormals(const FaceGraph& g, int vertices) {
 
 }  // namespace
 
-FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c) {
+FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c,
+                         const std::function<void()>& step) {
   FaceGraph g;
   g.F = &F;
   const int faces = static_cast<int>(F.rows());
@@ -276,6 +277,7 @@ FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectiv
     const bool repeated = F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 0) == F(f, 2);
     g.chartable[f] = !repeated && g.area[f] > tiny;
   }
+  if (step) step();
   g.across.assign(3 * static_cast<size_t>(faces), -1);
   parallelFor(3 * faces, 3 * 16384, [&](int first, int last, int) {
     for (int h = first; h < last; ++h) {
@@ -286,6 +288,7 @@ FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectiv
       if (F(t / 3, t % 3) == to && F(t / 3, (t % 3 + 1) % 3) == from) g.across[h] = t / 3;
     }
   });
+  if (step) step();
   int vertices = 0;
   for (int f = 0; f < faces; ++f)
     for (int k = 0; k < 3; ++k) vertices = std::max(vertices, F(f, k) + 1);
@@ -299,6 +302,7 @@ FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectiv
   for (int f = 0; f < faces; ++f)
     for (int k = 0; k < 3; ++k)
       if (k == 0 || F(f, k) != F(f, k - 1)) g.vertex_face[fill[F(f, k)]++] = f;
+  if (step) step();
   g.growth_normal = smoothedNormals(g, vertices);
   return g;
 }

@@ -39,7 +39,9 @@ struct FaceGraph {
   int faceCount() const { return static_cast<int>(area.size()); }
 };
 
-FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c);
+// `step`, when given, is called between its four passes (a progress bar).
+FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c,
+                         const std::function<void()>& step = {});
 
 // Per face a region id, or one of these.
 constexpr int kUnassigned = -1;  // may be grown into

@@ -65,7 +65,7 @@ RichParameterList FilterStraightestParamPlugin::initParameterList(const QAction*
 // summary dict.
 std::map<std::string, QVariant> FilterStraightestParamPlugin::applyAtlas(
     const RichParameterList& parameters, MeshModel& mm, vcg::CallBackPos* cb) {
-  const auto progress = sdp::meshlab::progressTo(cb, "straightest distances ", "");
+  const auto progress = sdp::meshlab::stageProgressTo(cb, "straightest distances atlas: ", "");
   const auto done = sdp::meshlab::atlasMeshModel(mm, parameters, progress);
   mm.clearTextures();
   mm.addTexture(done.texture.name.toStdString(), done.texture.image);

@@ -60,7 +60,7 @@ void FilterStraightestParamPlugin::fail(const char* filter, const std::string& r
 // log lines.
 void FilterStraightestParamPlugin::applyAtlas(const RichParameterList& parameters, MeshModel& mm,
                                               vcg::CallBackPos* cb) {
-  const auto progress = sdp::meshlab::progressTo(cb, "straightest distances ", "\n");
+  const auto progress = sdp::meshlab::stageProgressTo(cb, "straightest distances atlas: ", "\n");
   const auto done = sdp::meshlab::atlasMeshModel(mm, parameters, progress);
   mm.cm.textures.clear();
   mm.cm.textures.push_back(done.texture.path.toStdString());

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atlas/atlas.h"
 #include "core/atlas/measure.h"
 #include "io/mesh_io.h"
 #include "scan_like_mesh.h"
@@ -471,6 +472,33 @@ TEST_F(CliTest, ProgressPrintsTheCallbacksCallsFromZeroToAHundred) {
       EXPECT_TRUE(std::is_sorted(percents.begin(), percents.end())) << r.err;
     }
     EXPECT_EQ(percents.back(), 100) << r.err;
+    if (!atlas) continue;
+    // The atlas's stage bars (what MeshLab shows): every stage in run order, each bar moving
+    // only forward, the last full.
+    std::vector<std::string> stages;
+    int last_stage_percent = -1, last_run_percent = -1;
+    for (const std::string& line : linesOf(r.err)) {
+      char stage[64];
+      int stage_percent = -1, run_percent = -1;
+      double seconds = -1;
+      if (std::sscanf(line.c_str(), "stage %63s %d%% %d%% %lf", stage, &stage_percent, &run_percent,
+                      &seconds) != 4)
+        continue;
+      if (stages.empty() || stages.back() != stage) {
+        stages.push_back(stage);
+      } else {
+        EXPECT_GT(stage_percent, last_stage_percent) << line;
+      }
+      EXPECT_GE(run_percent, last_run_percent) << line;
+      EXPECT_LE(stage_percent, 100) << line;
+      last_stage_percent = stage_percent, last_run_percent = run_percent;
+    }
+    std::vector<std::string> expected;
+    for (const sdp::atlas::AtlasStage& stage : sdp::atlas::kAtlasStages)
+      expected.push_back(stage.name);
+    EXPECT_EQ(stages, expected) << r.err;
+    EXPECT_EQ(last_stage_percent, 100);
+    EXPECT_EQ(last_run_percent, 100);
   }
 }
 
