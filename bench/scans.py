@@ -100,19 +100,22 @@ def run_ours(args, mesh, folder, picture=None):
 
 
 def progress_gaps(stderr):
-    """The longest wait, in seconds, for a call of the progress callback and for a move of its
-    percentage (what a front end's bar shows), from the CLI's --progress lines."""
-    calls = []
+    """The longest wait, in seconds, for a call of the progress callback, for a move of its
+    percentage, and for a move of the stage's own bar (what MeshLab's bar shows for the atlas),
+    from the CLI's --progress lines."""
+    calls, stage_moves = [], []
     for line in stderr.splitlines():
         parts = line.split()
         if len(parts) == 4 and parts[0] == "progress":
             calls.append((float(parts[3]), int(parts[2].rstrip("%"))))
+        elif len(parts) == 5 and parts[0] == "stage":
+            stage_moves.append((float(parts[4]), parts[1], int(parts[2].rstrip("%"))))
     if len(calls) < 2:
         return None
     moves = [c for i, c in enumerate(calls) if i == 0 or c[1] > calls[i - 1][1]]
     longest = lambda points: max(b[0] - a[0] for a, b in zip(points, points[1:])) if len(
         points) > 1 else 0.0
-    return longest(calls), longest(moves)
+    return longest(calls), longest(moves), longest(stage_moves)
 
 
 def gates_ok(scored):
@@ -128,7 +131,7 @@ def fmt_row(name, sigma, row):
     s = row["scored"]
     stages = ", ".join(f"{k} {v:.1f}" for k, v in row["stage_seconds"].items())
     gaps = row.get("progress_gaps")
-    gaps = f"{gaps[0]:.1f} / {gaps[1]:.1f}" if gaps else "–"
+    gaps = " / ".join(f"{g:.1f}" for g in gaps) if gaps else "–"
     return (f"| {name} | {sigma:g} | {row['faces']:,} | "
             f"{'yes' if gates_ok(s) else 'NO'} | {row['charts']} | {s['l2']:.4f} | "
             f"{s['linf']:.2f} | {row['seconds']:.1f} ({stages}) | {row['peak_mb']:.0f} | "
@@ -152,8 +155,8 @@ def main():
     lines = [f"Scan-like meshes (bench/scans.py; texture {args.texture_size}², gutter 2, float "
              "texture coordinates as MeshLab stores them; seconds are the report's, without file "
              "I/O; CPU/wall over the whole process; progress: the longest wait for a call of the "
-             "progress callback / for its percentage to move, in seconds, as a front end's bar "
-             "gets them):", "",
+             "progress callback / for its percentage to move / for the stage's own bar to move "
+             "(what MeshLab's bar shows), in seconds):", "",
              "| mesh | noise σ | faces | every hard gate | charts | L2 | L∞ | seconds (stages) | "
              "peak MB | CPU / wall | progress s |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]

@@ -371,7 +371,8 @@ class ProgressBar {
     }
     return go_on;
   }
-  int percent() const { return whole_; }  // the run's, the last reported (-1 before any)
+  int percent() const { return whole_; }        // the run's, the last reported (-1 before any)
+  double fraction() const { return percent_; }  // the same with its fraction
 
  private:
   const ProgressCallback& run_;
@@ -454,14 +455,28 @@ class AtlasBuilder {
   // faces, below 0.01 % (docs/measurements.md, *Growth by smoothed normals*).
   void growByOwnNormalsOnMechanicalPieces(FaceGraph& graph,
                                           const std::vector<std::vector<int>>& pieces) {
-    forEachWithScratch(graph, static_cast<int>(pieces.size()), [&](int i, FaceScratch& scratch) {
-      const std::vector<int>& faces = pieces[i];
-      if (faces.size() < 2 ||
-          secondFeaturePatchShare(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch) <
-              kMechanicalPatchShare)
-        return;
-      for (int f : faces) graph.growth_normal[f] = graph.normal[f].cast<float>();
-    });
+    // The bar's room from where run() left it to the cut, by faces flooded (a second at 5.47M
+    // faces); the largest piece on the calling thread, which alone may move it.
+    int largest = 0;
+    for (size_t i = 0; i < pieces.size(); ++i)
+      if (pieces[i].size() > pieces[largest].size()) largest = static_cast<int>(i);
+    std::atomic<long long> flooded{0};
+    const double from = bar_.fraction(), faces_in_all = static_cast<double>(F_.rows());
+    const GrowthProgress progress = [&](int faces) {
+      flooded += faces;
+      reportWithin(from, kCutPercent, static_cast<double>(flooded.load()), faces_in_all);
+    };
+    forEachWithScratch(
+        graph, static_cast<int>(pieces.size()),
+        [&](int i, FaceScratch& scratch) {
+          const std::vector<int>& faces = pieces[i];
+          if (faces.size() < 2 ||
+              secondFeaturePatchShare(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch,
+                                      &progress) < kMechanicalPatchShare)
+            return;
+          for (int f : faces) graph.growth_normal[f] = graph.normal[f].cast<float>();
+        },
+        largest);
   }
 
   // Refuses at the start, not after the charts' work, when `fewest_charts` charts cannot fit
@@ -770,14 +785,15 @@ class AtlasBuilder {
     std::vector<char> disk(pieces.size(), 0);
     std::vector<std::vector<std::vector<int>>> cut(pieces.size());
     // Before the first flattening the bar follows the cut, in faces: the disk test (counted as
-    // half the faces: it took a tenth of the cut of the 5.47M-face scan), the seeds and three
-    // growths over every face in the worst case. The longest piece's cut takes the longest: it
-    // runs on the calling thread, which alone may call the progress callback.
+    // half the faces: it took a tenth of the cut of the 5.47M-face scan), the feature patches'
+    // flood (once; 1.3 s there), the seeds and three growths over every face in the worst case. The
+    // longest piece's cut takes the longest: it runs on the calling thread, which alone may call
+    // the progress callback.
     std::atomic<long long> grown{0};
     double expected = 0;
     int largest = 0;
     for (size_t i = 0; i < pieces.size(); ++i) {
-      expected += 4.5 * static_cast<double>(pieces[i].faces.size());
+      expected += 5.5 * static_cast<double>(pieces[i].faces.size());
       if (pieces[i].faces.size() > pieces[largest].faces.size()) largest = static_cast<int>(i);
     }
     const bool first = bar_.percent() < kFlattenPercent;
@@ -827,7 +843,7 @@ class AtlasBuilder {
     // One patch (no sharp edges) is the piece itself, which is no disk but may be one with
     // holes.
     std::vector<std::vector<int>> patches =
-        featurePatches(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch);
+        featurePatches(graph, faces, kSharpEdgeCos, kFewestPatchFaces, scratch, &growth);
     // A patch with holes (a flat face around drilled holes) is flattened whole, its holes
     // filled for the solve as the patch filter fills them, and split only when it fails the
     // limits: cut into disks it would take a seam from every hole. Not above the first cut's

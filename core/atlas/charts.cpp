@@ -638,12 +638,39 @@ int floodPatches(const FaceGraph& graph, const std::vector<int>& seeds, std::vec
   return count;
 }
 
+// Tells `progress` (when given) of the faces of each patch flooded, in batches: a noisy scan's
+// patches are some tens of faces each.
+class FloodProgress {
+ public:
+  explicit FloodProgress(const GrowthProgress* progress) : progress_(progress) {}
+  void add(size_t faces) {
+    pending_ += static_cast<int>(faces);
+    if (pending_ >= kBatch) flush();
+  }
+  // Tells the rest (the progress may throw: a cancel; never from a destructor).
+  void flush() {
+    const int faces = pending_;
+    pending_ = 0;
+    if (progress_ && faces > 0) (*progress_)(faces);
+  }
+
+ private:
+  static constexpr int kBatch = 1 << 16;
+  const GrowthProgress* progress_;
+  int pending_ = 0;
+};
+
 template <class Separated>
 std::vector<std::vector<int>> growPatches(const FaceGraph& graph, const std::vector<int>& faces,
                                           const std::vector<int>& seeds, int fewest,
-                                          std::vector<int>& patch, Separated separated) {
+                                          std::vector<int>& patch, Separated separated,
+                                          const GrowthProgress* progress = nullptr) {
   for (int f : faces) patch[f] = kUnassigned;
-  const int count = floodPatches(graph, seeds, patch, separated, [](const std::vector<int>&) {});
+  FloodProgress flooded(progress);
+  const int count =
+      floodPatches(graph, seeds, patch, separated,
+                   [&](const std::vector<int>& members) { flooded.add(members.size()); });
+  flooded.flush();
   return absorbSmallPatches(graph, faces, count, fewest, patch);
 }
 
@@ -655,20 +682,25 @@ bool sharpEdge(const FaceGraph& graph, int f, int next, double sharp_cos) {
 }  // namespace
 
 std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
-                                             double sharp_cos, int fewest, FaceScratch& scratch) {
-  return growPatches(graph, faces, faces, fewest, scratch.region,
-                     [&](int f, int, int next) { return sharpEdge(graph, f, next, sharp_cos); });
+                                             double sharp_cos, int fewest, FaceScratch& scratch,
+                                             const GrowthProgress* progress) {
+  return growPatches(
+      graph, faces, faces, fewest, scratch.region,
+      [&](int f, int, int next) { return sharpEdge(graph, f, next, sharp_cos); }, progress);
 }
 
 double secondFeaturePatchShare(const FaceGraph& graph, const std::vector<int>& faces,
-                               double sharp_cos, int fewest, FaceScratch& scratch) {
+                               double sharp_cos, int fewest, FaceScratch& scratch,
+                               const GrowthProgress* progress) {
   std::vector<int>& patch = scratch.region;
   for (int f : faces) patch[f] = kUnassigned;
   double total = 0, largest = 0, second = 0;
+  FloodProgress flooded(progress);
   floodPatches(
       graph, faces, patch,
       [&](int f, int, int next) { return sharpEdge(graph, f, next, sharp_cos); },
       [&](const std::vector<int>& members) {
+        flooded.add(members.size());
         double area = 0;
         for (int f : members) area += graph.area[f];
         total += area;
@@ -679,6 +711,7 @@ double secondFeaturePatchShare(const FaceGraph& graph, const std::vector<int>& f
           second = std::max(second, area);
         }
       });
+  flooded.flush();
   for (int f : faces) patch[f] = kOutside;
   return total > 0 ? second / total : 0;
 }

@@ -82,14 +82,17 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
 // make an angle below the one whose cosine is `sharp_cos` (a sharp edge bounds a patch). A patch
 // of fewer than `fewest` faces joins the neighbouring patch it shares the most border with (in
 // patch order), so a crease that does not close, or noise, leaves one patch. In list order.
+// `progress`, when given, is told of the faces flooded as it goes (some 65,536 at a time).
 std::vector<std::vector<int>> featurePatches(const FaceGraph& graph, const std::vector<int>& faces,
-                                             double sharp_cos, int fewest, FaceScratch& scratch);
+                                             double sharp_cos, int fewest, FaceScratch& scratch,
+                                             const GrowthProgress* progress = nullptr);
 
 // The area of the second largest of the patches featurePatches grows, among those of at least
 // `fewest` faces (the others would join a neighbour), over the faces' area: 0 for one patch. One
 // pass over the faces, keeping no lists (a scan's whole piece is millions of faces).
 double secondFeaturePatchShare(const FaceGraph& graph, const std::vector<int>& faces,
-                               double sharp_cos, int fewest, FaceScratch& scratch);
+                               double sharp_cos, int fewest, FaceScratch& scratch,
+                               const GrowthProgress* progress = nullptr);
 
 // The faces of the list in patches that each face about one way: grown from the largest faces
 // first, each across the edges to faces whose normal is within the angle whose cosine is
