@@ -756,11 +756,7 @@ class AtlasBuilder {
     points.reserve(a.uv.size() + b.uv.size());
     for (const Eigen::Vector2d& p : a.uv) points.push_back(p * sa);
     for (const Eigen::Vector2d& p : b.uv) points.push_back(turn * (p * sb - cb) + ca);
-    const Eigen::Matrix2d box = smallestBoxRotation(points);
-    Eigen::Vector2d low = box * points.front(), high = low;
-    for (const Eigen::Vector2d& p : points)
-      low = low.cwiseMin(box * p), high = high.cwiseMax(box * p);
-    return (high - low).prod();
+    return smallestRectangleArea(points);
   }
 
   // Flattens the pair's faces into `merged`; true when the merged chart is to replace the two.
@@ -771,13 +767,14 @@ class AtlasBuilder {
     // apart is refused without flattening: merged, it failed the rectangle or the stretch
     // limits every time (docs/measurements.md).
     const Chart &a = charts_[t.a], &b = charts_[t.b];
-    if (joinedBoxArea(a, b) > kMostJoinedBoxRatio * (boxArea(a) + boxArea(b))) return false;
+    const double parts = boxArea(a) + boxArea(b);
+    if (joinedBoxArea(a, b) > kMostJoinedBoxRatio * parts) return false;
     std::string why;
     if (!flattenChart(V_, F_, t.faces, chartOptions(t.faces.size()), merged, why)) return false;
     if (!stretchAccepted(merged) ||
         merged.report.linf_stretch >
             std::max({a.report.linf_stretch, b.report.linf_stretch, kMostKeptLinf}) ||
-        boxArea(merged) > (boxArea(a) + boxArea(b)) * (1 + kMergedBoxTolerance))
+        boxArea(merged) > parts * (1 + kMergedBoxTolerance))
       return false;
     // As outcome() judges a chart: cut again when the cut leaves two pieces or more.
     return straightCutPieces(graph, merged, scratch.region).size() < 2;
@@ -787,11 +784,16 @@ class AtlasBuilder {
   static double boxArea(const Chart& chart) {
     const double uv_area = uvArea(chart.uv, chart.corner_row);
     if (!(uv_area > 0)) return 0;
-    const Eigen::Matrix2d turn = smallestBoxRotation(chart.uv);
-    Eigen::Vector2d low = turn * chart.uv.front(), high = low;
-    for (const Eigen::Vector2d& p : chart.uv)
+    return smallestRectangleArea(chart.uv) * chart.report.area / uv_area;
+  }
+
+  // The area of the smallest rectangle around the points (one side on their hull).
+  static double smallestRectangleArea(const std::vector<Eigen::Vector2d>& points) {
+    const Eigen::Matrix2d turn = smallestBoxRotation(points);
+    Eigen::Vector2d low = turn * points.front(), high = low;
+    for (const Eigen::Vector2d& p : points)
       low = low.cwiseMin(turn * p), high = high.cwiseMax(turn * p);
-    return (high - low).prod() * chart.report.area / uv_area;
+    return (high - low).prod();
   }
 
   // Adds a flattening's work to the atlas's (every flattening counts, also when not kept).
