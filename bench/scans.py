@@ -83,6 +83,7 @@ def run_ours(args, mesh, folder, picture=None):
     row.update({k: report[k] for k in ("charts", "charts_split", "l2_stretch", "linf_stretch",
                                         "seconds", "faces", "components")})
     row["stage_seconds"] = report.get("stage_seconds", {})
+    row["stage_cpu_seconds"] = report.get("stage_cpu_seconds", {})
     row["progress_gaps"] = progress_gaps(err)
     (folder / "progress.log").write_text(err)  # to find where the bar waits
     score = subprocess.run([str(args.build / "bin" / "sdp_atlas_score"), str(out),
@@ -124,6 +125,16 @@ def gates_ok(scored):
                                             "outside_faces", "uncharted_faces"))
 
 
+def slowest_stage(row):
+    """The stage of more than a second with the lowest CPU over wall time, as 'name ratio'."""
+    ratios = [(row["stage_cpu_seconds"].get(k, 0) / v, k)
+              for k, v in row["stage_seconds"].items() if v > 1]
+    if not ratios:
+        return "–"
+    ratio, stage = min(ratios)
+    return f"{stage} {ratio:.2f}"
+
+
 def fmt_row(name, sigma, row):
     if "failed" in row:
         return (f"| {name} | {sigma:g} | – | refused: {row['failed']} | – | – | – | "
@@ -135,7 +146,7 @@ def fmt_row(name, sigma, row):
     return (f"| {name} | {sigma:g} | {row['faces']:,} | "
             f"{'yes' if gates_ok(s) else 'NO'} | {row['charts']} | {s['l2']:.4f} | "
             f"{s['linf']:.2f} | {row['seconds']:.1f} ({stages}) | {row['peak_mb']:.0f} | "
-            f"{row['cpu_over_wall']:.2f} | {gaps} |")
+            f"{row['cpu_over_wall']:.2f} ({slowest_stage(row)}) | {gaps} |")
 
 
 def main():
@@ -154,7 +165,9 @@ def main():
     work = CACHE / "runs"
     lines = [f"Scan-like meshes (bench/scans.py; texture {args.texture_size}², gutter 2, float "
              "texture coordinates as MeshLab stores them; seconds are the report's, without file "
-             "I/O; CPU/wall over the whole process; progress: the longest wait for a call of the "
+             "I/O; CPU/wall over the whole process, and in brackets the stage of more than a second "
+             "with the lowest CPU/wall (the report's stage_cpu_seconds over stage_seconds); "
+             "progress: the longest wait for a call of the "
              "progress callback / for its percentage to move / for the stage's own bar to move "
              "(what MeshLab's bar shows), in seconds):", "",
              "| mesh | noise σ | faces | every hard gate | charts | L2 | L∞ | seconds (stages) | "

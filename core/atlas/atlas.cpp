@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <ctime>
 #include <limits>
 #include <memory>
 #include <new>
@@ -40,6 +41,13 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
+
+// When a stage began, in wall time and in the process's CPU time: the report gives both, so a
+// stage that leaves a core idle shows (its CPU seconds near its wall seconds on two cores).
+struct StageStart {
+  Clock::time_point wall = Clock::now();
+  std::clock_t cpu = std::clock();
+};
 
 // A chart once flattened: its faces, and per face corner a row of its own texture coordinates
 // (natural scale, counter-clockwise as the faces run).
@@ -394,7 +402,7 @@ class AtlasBuilder {
  public:
   // `start`: when the run began (the connectivity of `F`, checked, is its first stage).
   AtlasBuilder(const Positions& V, const Triangles& F, const AtlasOptions& options,
-               Clock::time_point start, ProgressBar& bar)
+               StageStart start, ProgressBar& bar)
       : V_(V), F_(F), options_(options), start_(start), bar_(bar) {}
 
   AtlasResult run(const Connectivity& connectivity) {
@@ -425,9 +433,9 @@ class AtlasBuilder {
     if (edge_count == 0)
       throw ParameterizationError("every face has zero area (no surface to flatten)");
     const double mean_edge = edge_sum / edge_count;
-    r.stage_seconds.emplace_back("connectivity", secondsSince(stage));
+    endStage("connectivity", stage);
 
-    stage = Clock::now();
+    stage = StageStart();
     for (int f = 0; f < graph.faceCount(); ++f)
       if (!graph.chartable[f]) {
         ++r.zero_area_faces;
@@ -439,14 +447,14 @@ class AtlasBuilder {
     checkRoomForCharts(r.zero_area_faces + r.components);
     growByOwnNormalsOnMechanicalPieces(graph, pieces);
     report(kCutPercent);
-    addToStage(r.stage_seconds, "cut", secondsSince(stage));
+    endStage("cut", stage);
     makeCharts(graph, std::move(pieces));
     report(kMergePercent);  // every stage's bar starts, merging or not
     if (options_.merge_charts) mergeCharts(graph);
     scratch_.clear();  // about 12 bytes a face each: not kept through packing and storage
 
     packAndStore();
-    r.seconds = secondsSince(start_);
+    r.seconds = secondsSince(start_.wall);
     report(100);
     return std::move(result_);
   }
@@ -544,11 +552,11 @@ class AtlasBuilder {
     for (int round = 0; !pending.empty(); ++round) {
       const double round_to =
           round_from + (round == 0 ? 2.0 / 3 : 0.5) * (kMergePercent - round_from);
-      auto stage = Clock::now();
+      StageStart stage;
       std::vector<Piece> disks = sortIntoDisks(graph, std::move(pending), charted_faces);
       pending.clear();
-      addToStage(r.stage_seconds, "cut", secondsSince(stage));
-      stage = Clock::now();
+      endStage("cut", stage);
+      stage = StageStart();
       // Largest first, so the long ones start early.
       std::stable_sort(disks.begin(), disks.end(), [](const Piece& a, const Piece& b) {
         return a.faces.size() > b.faces.size();
@@ -582,8 +590,8 @@ class AtlasBuilder {
         countWork(chart);
         r.chart_fallbacks += chart.report.fallbacks;  // 0 for a kept map
       }
-      addToStage(r.stage_seconds, "flatten", secondsSince(stage));
-      stage = Clock::now();
+      endStage("flatten", stage);
+      stage = StageStart();
       std::vector<Outcome> outcomes(disks.size());
       std::atomic<int> decided{0};
       forEachWithScratch(graph, static_cast<int>(disks.size()), [&](int i, FaceScratch& scratch) {
@@ -599,7 +607,7 @@ class AtlasBuilder {
         if (o.split) ++r.charts_split;
         for (Piece& piece : o.pieces) pending.push_back(std::move(piece));
       }
-      addToStage(r.stage_seconds, "split", secondsSince(stage));
+      endStage("split", stage);
       report(round_to);
       round_from = round_to;
     }
@@ -614,7 +622,7 @@ class AtlasBuilder {
   // are counted against a budget in proportion to the mesh.
   void mergeCharts(const FaceGraph& graph) {
     AtlasReport& r = result_.report;
-    const auto stage = Clock::now();
+    const StageStart stage;
     MergeState state;
     state.chart_of.assign(F_.rows(), -1);
     const double faces = static_cast<double>(F_.rows());
@@ -656,7 +664,7 @@ class AtlasBuilder {
       charts_.resize(kept);
       r.charts_merged += merges;
     }
-    addToStage(r.stage_seconds, "merge", secondsSince(stage));
+    endStage("merge", stage);
   }
 
   struct MergeState {
@@ -794,6 +802,14 @@ class AtlasBuilder {
     for (const Eigen::Vector2d& p : points)
       low = low.cwiseMin(turn * p), high = high.cwiseMax(turn * p);
     return (high - low).prod();
+  }
+
+  // Adds the time since `since` to the stage's wall and CPU seconds (summed over the rounds).
+  void endStage(const std::string& key, const StageStart& since) {
+    AtlasReport& r = result_.report;
+    addToStage(r.stage_seconds, key, secondsSince(since.wall));
+    addToStage(r.stage_cpu_seconds, key,
+               static_cast<double>(std::clock() - since.cpu) / CLOCKS_PER_SEC);
   }
 
   // Adds a flattening's work to the atlas's (every flattening counts, also when not kept).
@@ -1157,13 +1173,13 @@ class AtlasBuilder {
       report(kPackPercent + (kStorePercent - kPackPercent) * part);
     };
     for (int attempt = 0;; ++attempt) {
-      auto stage = Clock::now();
+      StageStart stage;
       const Packing packing = packCharts(shapes, pack);
       report(kStorePercent - 1);  // the layout of millions of faces takes seconds
       Layout layout = packedLayout(shapes, packing);
-      addToStage(r.stage_seconds, "pack", secondsSince(stage));
+      endStage("pack", stage);
       report(kStorePercent);
-      stage = Clock::now();
+      stage = StageStart();
       StoragePolicy policy;
       policy.precision = options_.storage;
       int store_step = 0;
@@ -1173,7 +1189,7 @@ class AtlasBuilder {
       const PixelMeasures pixels =
           measurePixels(layout, layout.chart, options_.texture_size, options_.gutter,
                         [this](double done) { report(kStorePercent + 3 + 2.99 * done); });
-      addToStage(r.stage_seconds, "store", secondsSince(stage));
+      endStage("store", stage);
       if (pixels.overlapping_pixels == 0 && pixels.gutter_violations == 0) {
         r.texels_per_unit = packing.texels_per_unit;
         r.storage = uvStorageName(options_.storage);
@@ -1239,7 +1255,7 @@ class AtlasBuilder {
   void finish(Layout layout) {
     AtlasReport& r = result_.report;
     report(kMeasurePercent);
-    const auto stage = Clock::now();
+    const StageStart stage;
     const StretchMetrics stretch = layoutStretch(V_, F_, layout);
     report(kMeasurePercent + 1);
     if (stretch.flipped_faces > 0)
@@ -1265,13 +1281,13 @@ class AtlasBuilder {
                         " pieces by their stored texture coordinates");
     result_.face_stretch = stretch.face_l2;
     result_.layout = std::move(layout);
-    addToStage(r.stage_seconds, "measure", secondsSince(stage));
+    endStage("measure", stage);
   }
 
   const Positions& V_;
   const Triangles& F_;
   const AtlasOptions& options_;
-  const Clock::time_point start_;
+  const StageStart start_;
   const std::thread::id caller_ = std::this_thread::get_id();
   ProgressBar& bar_;
   AtlasResult result_;
@@ -1290,7 +1306,7 @@ class AtlasBuilder {
 // edges as the surface runs instead of cutting each one; the stored corners are then given back
 // in the face's own order, so such a face's UV triangle runs clockwise: counted, not a fold.
 AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const AtlasOptions& options,
-                               const Connectivity& input, Clock::time_point start,
+                               const Connectivity& input, StageStart start,
                                const std::function<void()>& step, ProgressBar& bar) {
   const std::vector<char> turn = coherentOrientation(F, input);
   Triangles turned = F;
@@ -1318,7 +1334,7 @@ AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const Atl
 
 AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions& options) {
   try {
-    const Clock::time_point start = Clock::now();
+    const StageStart start;
     // The bar starts before the connectivity, which takes seconds at millions of faces, and
     // moves with each of its three steps (to 3 %, where the builder starts).
     ProgressBar bar(options);
@@ -1443,6 +1459,11 @@ const std::vector<AtlasDetailField>& atlasDetailFields() {
        "checked, charts split), `pack`, `store` (rounding to the storage, its repair and the "
        "pixel check), `measure`; each summed over the rounds",
        [](R r) { return jsonNumbers(r.stage_seconds); }},
+      {"stage_cpu_seconds",
+       "CPU seconds per stage, of the whole process (every thread), as `stage_seconds` splits "
+       "the run: a stage that keeps every core of the machine busy has its wall seconds times "
+       "the cores",
+       [](R r) { return jsonNumbers(r.stage_cpu_seconds); }},
       {"stage_work",
        "the patch pipeline's work per stage (its report's `stage_work` keys), summed over every "
        "chart flattening: units of about a nanosecond of one core here, counted from sizes and "

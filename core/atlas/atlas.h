@@ -115,6 +115,7 @@ struct AtlasReport {
   // connectivity, cut (disk tests, cuts into disks), flatten, split (chart limits, splits),
   // pack, store (rounding, repair, pixel check), measure; seconds summed over the rounds.
   std::vector<std::pair<std::string, double>> stage_seconds;
+  std::vector<std::pair<std::string, double>> stage_cpu_seconds;  // the process's, per stage
   // The patch pipeline's counted work (work.h) per its stage, over every chart flattening.
   std::vector<std::pair<std::string, double>> stage_work;
   std::vector<std::string> warnings, notes;

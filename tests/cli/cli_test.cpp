@@ -511,9 +511,10 @@ TEST_F(CliTest, AtlasOfAClosedMeshWritesTexturedObjAndReport) {
       {in, outPath("a.obj"), "--atlas", "--texture-size", "256", "--report", outPath("r.json")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(outputFiles(), (std::vector<std::string>{"a.mtl", "a.obj", "a_atlas.png", "r.json"}));
-  for (const char* key : {"charts", "seam", "packing_efficiency", "l2_stretch", "linf_stretch",
-                          "flipped_faces", "overlapping_charts", "seconds", "stage_seconds",
-                          "texels_per_unit", "non_manifold_edges", "chart_table"})
+  for (const char* key :
+       {"charts", "seam", "packing_efficiency", "l2_stretch", "linf_stretch", "flipped_faces",
+        "overlapping_charts", "seconds", "stage_seconds", "stage_cpu_seconds", "texels_per_unit",
+        "non_manifold_edges", "chart_table"})
     EXPECT_FALSE(jsonValue(r.out, key).empty()) << key << "\n" << r.out;
   EXPECT_EQ(jsonValue(r.out, "flipped_faces"), "0");
   EXPECT_EQ(jsonValue(r.out, "overlapping_charts"), "0");
