@@ -906,9 +906,9 @@ class AtlasBuilder {
     return ready;
   }
 
-  // A piece that is not a disk in disks: in its feature patches (bounded by sharp edges), each
-  // patch that is neither a disk nor one with small holes then split into parts of about
-  // facesPerFirstPart faces.
+  // A piece that is not a disk (the caller tested it) in disks: in its feature patches (bounded
+  // by sharp edges), each patch that is neither a disk nor one with small holes then split into
+  // parts of about facesPerFirstPart faces.
   std::vector<std::vector<int>> cutIntoDisks(const FaceGraph& graph, const std::vector<int>& faces,
                                              FaceScratch& scratch, const GrowthProgress& growth) {
     auto split = [&](const std::vector<int>& part) {
@@ -928,8 +928,10 @@ class AtlasBuilder {
     const size_t part_size = facesPerFirstPart(F_.rows());
     auto flattenable = [&](const std::vector<int>& patch) {
       // Above the part size only a disk is flattened whole, and most such patches (a scan's
-      // whole piece) are not: isDisk says so without building their mesh.
-      if (patch.size() > part_size) return isDisk(graph, patch, scratch);
+      // whole piece) are not: isDisk says so without building their mesh. The piece itself,
+      // as its one patch, was just tested.
+      if (patch.size() > part_size)
+        return patch.size() < faces.size() && isDisk(graph, patch, scratch);
       const int holes = patch.size() == 1 ? 0 : regionHoles(graph, patch, scratch);
       return holes == 0 || (holes > 0 && holesAreSmall(graph, patch, scratch));
     };
@@ -1186,9 +1188,12 @@ class AtlasBuilder {
       const StorageCounts counts =
           store(layout, policy, [&] { report(kStorePercent + ++store_step); });
       report(kStorePercent + 3);
-      const PixelMeasures pixels =
-          measurePixels(layout, layout.chart, options_.texture_size, options_.gutter,
-                        [this](double done) { report(kStorePercent + 3 + 2.99 * done); });
+      // The pixel check ends below the measures' start (it once ran past it, and the stage bar
+      // named it the measures).
+      const PixelMeasures pixels = measurePixels(
+          layout, layout.chart, options_.texture_size, options_.gutter, [this](double done) {
+            report(kStorePercent + 3 + (kMeasurePercent - kStorePercent - 3.01) * done);
+          });
       endStage("store", stage);
       if (pixels.overlapping_pixels == 0 && pixels.gutter_violations == 0) {
         r.texels_per_unit = packing.texels_per_unit;
