@@ -1335,6 +1335,104 @@ AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const Atl
   return result;
 }
 
+// The mesh in a spatial order: its faces sorted along a Morton curve of their centroids (ties
+// by index, so the same order on any machine), its vertices in the order those faces first use
+// them (unused ones last, as they were).
+struct SpatialOrder {
+  Positions V;
+  Triangles F;
+  std::vector<int> input_face;  // per ordered face, the input's
+};
+SpatialOrder spatialOrder(const Positions& V, const Triangles& F) {
+  const int faces = static_cast<int>(F.rows());
+  std::vector<Eigen::Vector3d> centroid(faces);
+  parallelFor(faces, 16384, [&](int first, int last, int) {
+    for (int f = first; f < last; ++f)
+      centroid[f] = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))).transpose() / 3;
+  });
+  Eigen::Vector3d low = centroid[0], high = low;
+  for (const Eigen::Vector3d& c : centroid) low = low.cwiseMin(c), high = high.cwiseMax(c);
+  const double side = std::max((high - low).maxCoeff(), std::numeric_limits<double>::min());
+  // 21 bits per axis, interleaved into 63.
+  auto spread = [](std::uint64_t x) {
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+  };
+  std::vector<std::pair<std::uint64_t, int>> keyed(faces);
+  parallelFor(faces, 16384, [&](int first, int last, int) {
+    for (int f = first; f < last; ++f) {
+      std::uint64_t code = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double t = std::clamp((centroid[f][a] - low[a]) / side, 0.0, 1.0);
+        code |= spread(static_cast<std::uint64_t>(t * 2097151.0)) << a;
+      }
+      keyed[f] = {code, f};
+    }
+  });
+  // Two halves sorted at once, then merged: the same order as one sort (keys are distinct).
+  const auto middle = keyed.begin() + faces / 2;
+  parallelFor(2, 1, [&](int first, int last, int) {
+    for (int h = first; h < last; ++h)
+      std::sort(h == 0 ? keyed.begin() : middle, h == 0 ? middle : keyed.end());
+  });
+  std::inplace_merge(keyed.begin(), middle, keyed.end());
+  SpatialOrder o;
+  o.input_face.resize(faces);
+  std::vector<int> new_vertex(V.rows(), -1);
+  int vertices = 0;
+  o.F.resize(faces, 3);
+  for (int i = 0; i < faces; ++i) {
+    const int f = keyed[i].second;
+    o.input_face[i] = f;
+    for (int k = 0; k < 3; ++k) {
+      int& v = new_vertex[F(f, k)];
+      if (v < 0) v = vertices++;
+      o.F(i, k) = v;
+    }
+  }
+  for (int& v : new_vertex)
+    if (v < 0) v = vertices++;
+  o.V.resize(V.rows(), 3);
+  for (Eigen::Index v = 0; v < V.rows(); ++v) o.V.row(new_vertex[v]) = V.row(v);
+  return o;
+}
+
+// An atlas of the mesh in spatial order given back in the input's face order (the UV rows stay
+// as they are: chart by chart).
+AtlasResult inInputOrder(AtlasResult ordered, const std::vector<int>& input_face) {
+  AtlasResult result = std::move(ordered);
+  Layout& layout = result.layout;
+  const Triangles face_uv = layout.face_uv;
+  const std::vector<int> chart = layout.chart;
+  const std::vector<double> stretch = result.face_stretch;
+  for (size_t i = 0; i < input_face.size(); ++i) {
+    const int f = input_face[i];
+    layout.face_uv.row(f) = face_uv.row(i);
+    if (!chart.empty()) layout.chart[f] = chart[i];
+    if (!stretch.empty()) result.face_stretch[f] = stretch[i];
+  }
+  return result;
+}
+
+// makeAtlas on a mesh already checked, in the order it is given.
+AtlasResult atlasInOrder(const Positions& V, const Triangles& F, const AtlasOptions& options,
+                         StageStart start, ProgressBar& bar) {
+  auto call = [&](int percent) {
+    if (!bar.report(percent, true)) throw ParameterizationError("cancelled by the user");
+  };
+  int steps = 0;
+  const std::function<void()> step = [&] { call(std::min(++steps, 3)); };
+  const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()), step);
+  if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
+    return atlasOfTurnedFaces(V, F, options, connectivity, start, step, bar);
+  return AtlasBuilder(V, F, options, start, bar).run(connectivity);
+}
+
 }  // namespace
 
 AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions& options) {
@@ -1349,12 +1447,11 @@ AtlasResult makeAtlas(const Positions& V, const Triangles& F, const AtlasOptions
     call(0);
     checkInput(V, F, options);
     call(0);  // a call, not a move: the input's check takes a second or two at 13M faces
-    int steps = 0;
-    const std::function<void()> step = [&] { call(std::min(++steps, 3)); };
-    const Connectivity connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()), step);
-    if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
-      return atlasOfTurnedFaces(V, F, options, connectivity, start, step, bar);
-    return AtlasBuilder(V, F, options, start, bar).run(connectivity);
+    if (F.rows() < options.spatial_order_faces) return atlasInOrder(V, F, options, start, bar);
+    SpatialOrder ordered = spatialOrder(V, F);
+    call(0);
+    return inInputOrder(atlasInOrder(ordered.V, ordered.F, options, start, bar),
+                        ordered.input_face);
   } catch (const std::bad_alloc&) {
     throw ParameterizationError("not enough memory to make an atlas of a mesh of " +
                                 std::to_string(V.rows()) + " vertices and " +

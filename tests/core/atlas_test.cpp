@@ -471,6 +471,43 @@ TEST(Atlas, SameBytesOnEveryRunAndEveryStorage) {
   }
 }
 
+TEST(Atlas, ASpatiallyOrderedCopyIsGivenBackInTheInputsOrder) {
+  // From spatial_order_faces faces the atlas charts a copy in a spatial order (atlas.h); here
+  // from any size, on faces written in random order, some wound against their neighbours and
+  // a vertex left unused: every per-face value comes back on the input's own face.
+  Mesh mesh = together(sphere(3), torus(32, 12));
+  std::vector<int> order(mesh.F.rows());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), std::mt19937(7));
+  Triangles shuffled(mesh.F.rows(), 3);
+  for (int f = 0; f < mesh.F.rows(); ++f) shuffled.row(f) = mesh.F.row(order[f]);
+  for (int f = 0; f < shuffled.rows(); f += 7) std::swap(shuffled(f, 1), shuffled(f, 2));
+  mesh.F = shuffled;
+  mesh.V.conservativeResize(mesh.V.rows() + 1, 3);
+  mesh.V.row(mesh.V.rows() - 1) = Eigen::RowVector3d(5, 5, 5);
+  AtlasOptions o = quickOptions();
+  o.spatial_order_faces = 0;
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_GT(r.report.faces_against_chart, 0);
+  // The per-face stretch is the input face's: measured anew on the layout as given back.
+  Triangles F = mesh.F;
+  Layout layout = r.layout;
+  const std::vector<char> turn =
+      coherentOrientation(F, analyzeConnectivity(F, static_cast<int>(mesh.V.rows())));
+  for (int f = 0; f < F.rows(); ++f)
+    if (turn[f]) std::swap(F(f, 1), F(f, 2)), std::swap(layout.face_uv(f, 1), layout.face_uv(f, 2));
+  const StretchMetrics s = layoutStretch(mesh.V, F, layout);
+  ASSERT_EQ(r.face_stretch.size(), s.face_l2.size());
+  for (size_t f = 0; f < s.face_l2.size(); ++f) EXPECT_NEAR(r.face_stretch[f], s.face_l2[f], 1e-9);
+  // The same bytes on a second run; and charted in the input's order, still certified.
+  const AtlasResult again = makeAtlas(mesh.V, mesh.F, o);
+  EXPECT_TRUE(again.layout.uv == r.layout.uv);
+  EXPECT_TRUE(again.layout.face_uv == r.layout.face_uv);
+  o.spatial_order_faces = std::numeric_limits<int>::max();
+  expectCertified(mesh, makeAtlas(mesh.V, mesh.F, o), o);
+}
+
 TEST(Atlas, GutterIsKeptAtEveryWidth) {
   const Mesh mesh = together(sphere(3), torus(24, 10));
   for (int gutter : {0, 1, 4, 8}) {
