@@ -1261,14 +1261,21 @@ class AtlasBuilder {
     AtlasReport& r = result_.report;
     report(kMeasurePercent);
     const StageStart stage;
-    const StretchMetrics stretch = layoutStretch(V_, F_, layout);
-    report(kMeasurePercent + 1);
+    // The stretch (by the atlas's own charts) on another core while this thread measures the
+    // rest and reports its steps: each is a pass over every face, a second or two at 5M faces,
+    // and the measures alone kept one core (store() certified the pixels).
+    StretchMetrics stretch;
+    AtlasMeasures measures;
+    int measure_step = 0;  // three steps, seconds apart at 13M faces
+    parallelForAlongside(
+        1, 1,
+        [&] {
+          measures = measureLayout(V_, F_, layout,
+                                   [&] { report(kMeasurePercent + std::min(++measure_step, 3)); });
+        },
+        [&](int, int, int) { stretch = layoutStretch(V_, F_, layout); });
     if (stretch.flipped_faces > 0)
       throw ParameterizationError("internal error: the stored atlas has flipped faces");
-    // The stretch is the one above, by the atlas's own charts; store() certified the pixels.
-    int measure_step = 0;  // three steps, seconds apart at 13M faces
-    const AtlasMeasures measures = measureLayout(
-        V_, F_, layout, [&] { report(kMeasurePercent + 1 + std::min(++measure_step, 2)); });
     r.charts = static_cast<int>(charts_.size());
     r.seam = measures.seam;
     r.packing_efficiency = measures.efficiency;

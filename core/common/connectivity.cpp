@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "disjoint_sets.h"
+#include "parallel.h"
 
 namespace sdp {
 namespace {
@@ -220,18 +221,21 @@ std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count) {
       const int low = std::min(from(h), to(h));
       keys[fill[low]++] = {low, std::max(from(h), to(h)), h};
     }
-  for (int v = 0; v < vertex_count; ++v) {
-    HalfEdgeKey* first = keys.data() + begin[v];
-    HalfEdgeKey* last = keys.data() + begin[v + 1];
-    if (last - first > 32) {
-      std::sort(first, last, [](const HalfEdgeKey& x, const HalfEdgeKey& y) {
-        return x.high != y.high ? x.high < y.high : x.half_edge < y.half_edge;
-      });
-      continue;
+  // Each vertex's run on its own: on every core, the same keys.
+  parallelFor(vertex_count, 16384, [&](int first_vertex, int last_vertex, int) {
+    for (int v = first_vertex; v < last_vertex; ++v) {
+      HalfEdgeKey* first = keys.data() + begin[v];
+      HalfEdgeKey* last = keys.data() + begin[v + 1];
+      if (last - first > 32) {
+        std::sort(first, last, [](const HalfEdgeKey& x, const HalfEdgeKey& y) {
+          return x.high != y.high ? x.high < y.high : x.half_edge < y.half_edge;
+        });
+        continue;
+      }
+      for (HalfEdgeKey* i = first + 1; i < last; ++i)  // insertion: stable, in half-edge order
+        for (HalfEdgeKey* j = i; j > first && j->high < (j - 1)->high; --j) std::swap(*j, *(j - 1));
     }
-    for (HalfEdgeKey* i = first + 1; i < last; ++i)  // insertion: stable, half-edges stay in order
-      for (HalfEdgeKey* j = i; j > first && j->high < (j - 1)->high; --j) std::swap(*j, *(j - 1));
-  }
+  });
   return keys;
 }
 
