@@ -518,6 +518,33 @@ TEST(Atlas, GutterIsKeptAtEveryWidth) {
   }
 }
 
+// The input's check runs on every core in slices of faces: the reason given is still that of
+// the first bad face in the mesh's order, whichever slice finds one first.
+TEST(Atlas, TheFirstBadFaceOfALargeMeshIsTheOneNamed) {
+  const int faces = 100000;
+  Positions V(faces + 2, 3);
+  for (int v = 0; v < faces + 2; ++v) V.row(v) << v, v % 2, 0;
+  Triangles F(faces, 3);
+  for (int f = 0; f < faces; ++f) F.row(f) << f, f + 1, f + 2;
+  F(90000, 1) = faces + 7;     // out of range, late
+  V(70001, 2) = std::nan("");  // not finite, at faces 69999 ... 70001
+  F(80000, 0) = -1;            // out of range, between them
+  try {
+    makeAtlas(V, F, AtlasOptions{});
+    ADD_FAILURE() << "accepted";
+  } catch (const ParameterizationError& e) {
+    EXPECT_STREQ(e.what(), "vertex 70001 has a coordinate that is not finite");
+  }
+  V(70001, 2) = 0;
+  try {
+    makeAtlas(V, F, AtlasOptions{});
+    ADD_FAILURE() << "accepted";
+  } catch (const ParameterizationError& e) {
+    EXPECT_STREQ(e.what(),
+                 "face 80000 has vertex index -1 out of range (the mesh has 100002 vertices)");
+  }
+}
+
 TEST(Atlas, BadInputIsRefusedWithOneLine) {
   auto reason = [](const Positions& V, const Triangles& F, AtlasOptions o = {}) {
     try {
