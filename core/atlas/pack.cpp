@@ -521,6 +521,21 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const Edges
   return best;
 }
 
+// The turn a chart is packed in: its smallest rectangle's. A chart too long for the texture
+// along the rectangle's sides may fit across its diagonal: turned by 45 degrees (the footprint
+// is its cells, not its rectangle, so the corners it leaves stay free for others).
+Eigen::Matrix2d chartFrame(const Eigen::Matrix2d& box, const Eigen::Vector2d& extent, double scale,
+                           int size) {
+  return diagonalFits(extent, scale, size) ? Eigen::Matrix2d(rotationBy(kPi / 4) * box) : box;
+}
+
+std::vector<Eigen::Vector2d> framedPoints(const ChartShape& chart, const Eigen::Matrix2d& frame,
+                                          double scale) {
+  std::vector<Eigen::Vector2d> p(chart.uv.size());
+  for (size_t i = 0; i < p.size(); ++i) p[i] = frame * chart.uv[i] * scale;
+  return p;
+}
+
 // Packs every chart at `scale` into a strip as wide as the texture, each at a low free spot
 // (lowest top, then lowest, then leftmost, of those searched over four quarter turns: every
 // stride-th column, then a halving search around the best); returns the strip's used height,
@@ -546,13 +561,8 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
                            0.75 * static_cast<double>(placed) / n,
                        attempt);
     placed_weight += weight(c);
-    // A chart too long for the texture along its rectangle's sides may fit across its diagonal:
-    // turned by 45 degrees (the footprint is its cells, not its rectangle, so the corners it
-    // leaves stay free for others).
-    Eigen::Matrix2d frame = box[c];
-    if (diagonalFits(extent[c], scale, size)) frame = rotationBy(kPi / 4) * box[c];
-    std::vector<Eigen::Vector2d> p(charts[c].uv.size());
-    for (size_t i = 0; i < p.size(); ++i) p[i] = frame * charts[c].uv[i] * scale;
+    const Eigen::Matrix2d frame = chartFrame(box[c], extent[c], scale, size);
+    const std::vector<Eigen::Vector2d> p = framedPoints(charts[c], frame, scale);
     const Spot best = lowestSpot(occupancy, charts[c], borders[c], p, options, reach, turned);
     const Footprint& chosen = turned[best.turn];
     if (best.top == INT_MAX) return INT_MAX;
@@ -567,6 +577,36 @@ int packAt(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matri
 // Texture coordinates of all charts up to which the scale is searched finely (pack.cpp's
 // largestFittingScale): the atlas bench's models (up to 86k faces) all are.
 constexpr size_t kMostPointsForFinePacking = 200000;
+
+// The cells the charts' footprints cover at `scale`, each in its packing frame (chartFrame),
+// summed in chart order: the same on any number of cores.
+double coveredCells(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
+                    const std::vector<Eigen::Vector2d>& extent, const std::vector<Edges>& borders,
+                    double scale, const PackOptions& options) {
+  const int n = static_cast<int>(charts.size()), size = options.texture_size;
+  std::vector<double> cells(n, 0.0);
+  parallelForAlongside(
+      n, 16, [] {},
+      [&](int begin, int end, int) {
+        Footprint fp;
+        for (int c = begin; c < end; ++c) {
+          const Eigen::Matrix2d frame = chartFrame(box[c], extent[c], scale, size);
+          footprint(framedPoints(charts[c], frame, scale), charts[c].triangles, borders[c],
+                    options.margin, 0, size, fp);
+          for (const auto& [low, high] : fp.cells.runs) cells[c] += high - low + 1;
+        }
+      });
+  double total = 0;
+  for (double c : cells) total += c;
+  return total;
+}
+
+// Whether a try at packing the charts takes seconds (kMostPointsForFinePacking).
+bool costlyToPack(const std::vector<ChartShape>& charts) {
+  size_t points = 0;
+  for (const ChartShape& chart : charts) points += chart.uv.size();
+  return points > kMostPointsForFinePacking;
+}
 
 // Finds the largest scale at which the charts, dropped in `order`, fit the texture, and their
 // places there; `aim` is a scale to try first, and with `must_beat` the search stops when the
@@ -588,9 +628,7 @@ double largestFittingScale(const std::vector<ChartShape>& charts,
   // height of a pack varies by about 1% from one scale to a nearby one, so a try aimed at the
   // very top overflowed as often as not and a third was needed (the scans bench's armadillo
   // x16: 3 packs, 16.3 s; 2, 9.1 s, for 0.6% of the texels).
-  size_t points = 0;
-  for (const ChartShape& chart : charts) points += chart.uv.size();
-  const bool costly = points > kMostPointsForFinePacking;
+  const bool costly = costlyToPack(charts);
   const double full_enough = costly ? 0.03 : 0.02;
   const double aimed_height = costly ? 1 - 0.5 * full_enough : 0.998 * 0.998;
   std::vector<Placement> trial(charts.size());
@@ -677,8 +715,20 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
   // At `full` the charts' area would fill the square exactly: no packing does better.
   const double full =
       size / std::sqrt(std::max(total, std::numeric_limits<double>::min())) * options.shrink;
-  // No chart can be longer than the texture: the first try is below that, not found by halving.
+  // The first try aims at filling 0.85^2 = 72% of the texture with the charts' area.
   double aim = 0.85 * full;
+  if (costlyToPack(charts)) {
+    // Where a try costs seconds the charts are thousands, and their cells (whole texels, the
+    // chart's outline rounded out) are far more than their area: aimed by area the first try
+    // overflowed by 7-12% on the scans bench's meshes, and a second pack of 2-20 s followed.
+    // Aimed by cells it lands in the band kept (largestFittingScale): the packer filled
+    // 65.4-66.7% of the used strip with cells there.
+    constexpr double kCellFill = 0.65;
+    for (int step = 0; step < 2; ++step)
+      aim *= std::sqrt(kCellFill * size * size /
+                       std::max(coveredCells(charts, box, extent, borders, aim, options), 1.0));
+  }
+  // No chart can be longer than the texture: the first try is below that, not found by halving.
   if (longest > 0 && aim * longest > size - 2) aim = (size - 2) / longest;
 
   // A greedy packer's result turns on the order the charts come in: four orders, largest first
