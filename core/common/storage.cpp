@@ -9,6 +9,7 @@
 #include "error.h"
 #include "geometry.h"
 #include "metrics.h"
+#include "parallel.h"
 
 namespace sdp {
 
@@ -76,10 +77,38 @@ struct UvMesh {
       }
     // Per row, the other ends of the edges at it in its faces: an edge met once is a border
     // edge, and the distinct ends are the row's neighbours (a local sort per row, no global one).
+    // Slices of rows on every core, joined in row order: the same lists on any machine.
+    const int slots = faceSumSlots(rows);
+    std::vector<Neighbours> slice(slots);
+    parallelForSlots(rows, slots, [&](int begin, int end, int slot) {
+      slice[slot] = neighboursOfRows(begin, end);
+    });
     neighbour_begin.assign(rows + 1, 0);
-    neighbour_list.reserve(face_list.size() * 2);
+    size_t listed = 0;
+    for (const Neighbours& part : slice) listed += part.list.size();
+    neighbour_list.reserve(listed);
+    for (const Neighbours& part : slice) {
+      for (size_t i = 0; i < part.count.size(); ++i)
+        neighbour_begin[part.first_row + i + 1] =
+            neighbour_begin[part.first_row + i] + part.count[i];
+      neighbour_list.insert(neighbour_list.end(), part.list.begin(), part.list.end());
+      border.insert(border.end(), part.border.begin(), part.border.end());
+    }
+    chart = layout.chart.empty() ? std::vector<int>(faces, 0) : layout.chart;
+  }
+
+  // The neighbours and border edges of rows [begin, end).
+  struct Neighbours {
+    int first_row = 0;
+    std::vector<int> count, list;  // per row its neighbours' count; all rows' neighbours
+    std::vector<BorderEdge> border;
+  };
+  Neighbours neighboursOfRows(int begin, int end) const {
+    Neighbours out;
+    out.first_row = begin;
+    out.count.reserve(end - begin);
     std::vector<int> ends;
-    for (int r = 0; r < rows; ++r) {
+    for (int r = begin; r < end; ++r) {
       ends.clear();
       for (int i = face_begin[r]; i < face_begin[r + 1]; ++i) {
         const int f = face_list[i];
@@ -90,16 +119,17 @@ struct UvMesh {
           }
       }
       std::sort(ends.begin(), ends.end());
+      const size_t listed = out.list.size();
       for (size_t i = 0; i < ends.size();) {
         size_t j = i;
         while (j < ends.size() && ends[j] == ends[i]) ++j;
-        neighbour_list.push_back(ends[i]);
-        if (j - i == 1 && r < ends[i]) border.push_back({r, ends[i]});
+        out.list.push_back(ends[i]);
+        if (j - i == 1 && r < ends[i]) out.border.push_back({r, ends[i]});
         i = j;
       }
-      neighbour_begin[r + 1] = static_cast<int>(neighbour_list.size());
+      out.count.push_back(static_cast<int>(out.list.size() - listed));
     }
-    chart = layout.chart.empty() ? std::vector<int>(faces, 0) : layout.chart;
+    return out;
   }
 
   const Triangles& face;
