@@ -608,6 +608,29 @@ bool costlyToPack(const std::vector<ChartShape>& charts) {
   return points > kMostPointsForFinePacking;
 }
 
+// The first try's scale for a costly pack (costlyToPack), refined from `aim`.
+double aimedByCells(const std::vector<ChartShape>& charts, const std::vector<Eigen::Matrix2d>& box,
+                    const std::vector<Eigen::Vector2d>& extent, const std::vector<Edges>& borders,
+                    double aim, const PackOptions& options) {
+  const int n = static_cast<int>(charts.size()), size = options.texture_size;
+  // Where a try costs seconds the charts are thousands, and their cells (whole texels, the
+  // chart's outline rounded out) are far more than their area: aimed by area the first try
+  // missed the band kept (largestFittingScale) on every mesh of the scans bench, and a second
+  // pack of 2-25 s followed. It is aimed by cells instead. The packer fills its strip the
+  // denser the smaller the charts, which fill the gaps between larger ones: the placed cells
+  // filled 65.4% of the used strip at 102k cells a chart (fertility x64), 65.9-66.7% at 35k
+  // (armadillo x16), 69.5% at 10.5k (armadillo x64) and 74.1% at 4.5k (cheburashka x1024),
+  // about 0.631 + 7.39 / sqrt(cells a chart); the try aims at 98% of that.
+  auto fill = [n](double cells) {
+    return std::min(0.9, 0.98 * (0.631 + 7.39 / std::sqrt(cells / n)));
+  };
+  for (int step = 0; step < 3; ++step) {
+    const double cells = std::max(coveredCells(charts, box, extent, borders, aim, options), 1.0);
+    aim *= std::sqrt(fill(cells) * size * size / cells);
+  }
+  return aim;
+}
+
 // Finds the largest scale at which the charts, dropped in `order`, fit the texture, and their
 // places there; `aim` is a scale to try first, and with `must_beat` the search stops when the
 // charts do not fit at it. Returns 0 when nothing fit.
@@ -717,23 +740,7 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
       size / std::sqrt(std::max(total, std::numeric_limits<double>::min())) * options.shrink;
   // The first try aims at filling 0.85^2 = 72% of the texture with the charts' area.
   double aim = 0.85 * full;
-  if (costlyToPack(charts)) {
-    // Where a try costs seconds the charts are thousands, and their cells (whole texels, the
-    // chart's outline rounded out) are far more than their area: aimed by area the first try
-    // missed the band kept (largestFittingScale) on every mesh of the scans bench, and a second
-    // pack of 2-25 s followed. It is aimed by cells instead. The packer fills its strip the
-    // denser the smaller the charts, which fill the gaps between larger ones: the placed cells
-    // filled 65.4% of the used strip at 102k cells a chart (fertility x64), 65.9-66.7% at 35k
-    // (armadillo x16), 69.5% at 10.5k (armadillo x64) and 74.1% at 4.5k (cheburashka x1024),
-    // about 0.631 + 7.39 / sqrt(cells a chart); the try aims at 98% of that.
-    auto fill = [n](double cells) {
-      return std::min(0.9, 0.98 * (0.631 + 7.39 / std::sqrt(cells / n)));
-    };
-    for (int step = 0; step < 3; ++step) {
-      const double cells = std::max(coveredCells(charts, box, extent, borders, aim, options), 1.0);
-      aim *= std::sqrt(fill(cells) * size * size / cells);
-    }
-  }
+  if (costlyToPack(charts)) aim = aimedByCells(charts, box, extent, borders, aim, options);
   // No chart can be longer than the texture: the first try is below that, not found by halving.
   if (longest > 0 && aim * longest > size - 2) aim = (size - 2) / longest;
 
