@@ -437,14 +437,16 @@ class AtlasBuilder {
     r.non_manifold_vertices = connectivity.non_manifold_vertices;
     r.inconsistent_edges = connectivity.inconsistent_edges;
     total_area_ = 0;
-    for (int f = 0; f < graph.faceCount(); ++f) total_area_ += graph.area[f];
-    if (std::none_of(graph.chartable.begin(), graph.chartable.end(), [](char c) { return c; }))
+    int chartable_faces = 0;
+    for (int f = 0; f < graph.faceCount(); ++f)
+      total_area_ += graph.area[f], chartable_faces += graph.chartable[f] ? 1 : 0;
+    if (chartable_faces == 0)
       throw ParameterizationError("every face has zero area (no surface to flatten)");
     report(kConnectivityPercent + 1);
     endStage("connectivity", stage);
 
     stage = StageStart();
-    addZeroAreaCharts(graph);
+    addZeroAreaCharts(graph, graph.faceCount() - chartable_faces);
     std::vector<std::vector<int>> pieces = components(graph);
     report(kConnectivityPercent + 1.6);
     r.components = static_cast<int>(pieces.size());
@@ -571,23 +573,21 @@ class AtlasBuilder {
       for (const Piece& disk : disks) round_faces += static_cast<double>(disk.faces.size());
       std::atomic<int> done_faces{0};
       const double split_from = round_from + 0.9 * (round_to - round_from);
-      parallelForAlongside(
-          static_cast<int>(disks.size()), 1, [] {},
-          [&](int begin, int end, int worker) {
-            for (int i = begin; i < end; ++i) {
-              if (cancelled_) return;
-              const std::vector<int>& faces = disks[i].faces;
-              if (disks[i].map) {
-                flat[i] = std::move(*disks[i].map);  // no work: linear_work stays 0
-                ok[i] = 1;
-              } else {
-                std::string why;
-                ok[i] = flattenChart(V_, F_, faces, chartOptions(faces.size()), flat[i], why);
-              }
-              done_faces += static_cast<int>(faces.size());
-              if (worker == 0) reportWithin(round_from, split_from, done_faces, round_faces);
-            }
-          });
+      parallelForDynamic(static_cast<int>(disks.size()), 1, [&](int begin, int end, int worker) {
+        for (int i = begin; i < end; ++i) {
+          if (cancelled_) return;
+          const std::vector<int>& faces = disks[i].faces;
+          if (disks[i].map) {
+            flat[i] = std::move(*disks[i].map);  // no work: linear_work stays 0
+            ok[i] = 1;
+          } else {
+            std::string why;
+            ok[i] = flattenChart(V_, F_, faces, chartOptions(faces.size()), flat[i], why);
+          }
+          done_faces += static_cast<int>(faces.size());
+          if (worker == 0) reportWithin(round_from, split_from, done_faces, round_faces);
+        }
+      });
       if (cancelled_) throw ParameterizationError("cancelled by the user");
       // Every flattening counts, also of charts split afterwards.
       for (const Chart& chart : flat) {
@@ -811,9 +811,8 @@ class AtlasBuilder {
   // A chart of its own for each face a chart cannot hold (zero area, repeated corner), sized by
   // the mean edge of the others (measured only when there is such a face: a pass over every
   // edge was most of a second at 5.47M faces).
-  void addZeroAreaCharts(const FaceGraph& graph) {
-    if (std::all_of(graph.chartable.begin(), graph.chartable.end(), [](char c) { return c; }))
-      return;
+  void addZeroAreaCharts(const FaceGraph& graph, int unchartable_faces) {
+    if (unchartable_faces == 0) return;
     double edge_sum = 0;
     int edge_count = 0;
     for (int f = 0; f < graph.faceCount(); ++f) {

@@ -267,32 +267,30 @@ PixelMeasures measurePixels(const Layout& layout, const std::vector<int>& chart,
   // halves one core waited for the other (CPU/wall 1.26 over storage at 13.6M faces).
   std::atomic<int> bands_done{0};
   std::vector<BandScratch> scratch(parallelWorkers());
-  parallelForAlongside(
-      bands, 1, [] {},
-      [&](int begin, int end, int worker) {
-        BandScratch& s = scratch[worker];
-        for (int b = begin; b < end; ++b) {
-          const int row_begin = b * kBandRows, row_end = std::min(size, row_begin + kBandRows);
-          const int grown_begin = std::max(0, row_begin - reach);
-          const int grown_end = std::min(size, row_end + reach);
-          s.spans.clear();
-          for (int i = band_begin[b]; i < band_begin[b + 1]; ++i) {
-            const int f = band_face[i];
-            const int c = chart.empty() ? 0 : chart[f];
-            coveredSpansInRows(corners[f].data(), size, grown_begin, grown_end,
-                               [&](int y, int x0, int x1) {
-                                 s.spans.push_back({y - grown_begin, x0, x1, c});
-                               });
-          }
-          const int rows = grown_end - grown_begin;
-          const int core_begin = row_begin - grown_begin, core_end = row_end - grown_begin;
-          overlapping[b] = ownerRuns(s, rows, core_begin, core_end);
-          // A gutter of one texel: neighbours may belong to any chart.
-          if (reach > 0) violations[b] = gutterBreaks(s, rows, reach, core_begin, core_end);
-          const int done = ++bands_done;
-          if (worker == 0 && progress) progress(static_cast<double>(done) / bands);
-        }
-      });
+  parallelForDynamic(bands, 1, [&](int begin, int end, int worker) {
+    BandScratch& s = scratch[worker];
+    for (int b = begin; b < end; ++b) {
+      const int row_begin = b * kBandRows, row_end = std::min(size, row_begin + kBandRows);
+      const int grown_begin = std::max(0, row_begin - reach);
+      const int grown_end = std::min(size, row_end + reach);
+      s.spans.clear();
+      for (int i = band_begin[b]; i < band_begin[b + 1]; ++i) {
+        const int f = band_face[i];
+        const int c = chart.empty() ? 0 : chart[f];
+        coveredSpansInRows(corners[f].data(), size, grown_begin, grown_end,
+                           [&](int y, int x0, int x1) {
+                             s.spans.push_back({y - grown_begin, x0, x1, c});
+                           });
+      }
+      const int rows = grown_end - grown_begin;
+      const int core_begin = row_begin - grown_begin, core_end = row_end - grown_begin;
+      overlapping[b] = ownerRuns(s, rows, core_begin, core_end);
+      // A gutter of one texel: neighbours may belong to any chart.
+      if (reach > 0) violations[b] = gutterBreaks(s, rows, reach, core_begin, core_end);
+      const int done = ++bands_done;
+      if (worker == 0 && progress) progress(static_cast<double>(done) / bands);
+    }
+  });
   for (int b = 0; b < bands; ++b) {
     m.overlapping_pixels += overlapping[b];
     m.gutter_violations += violations[b];

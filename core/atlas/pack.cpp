@@ -428,11 +428,9 @@ void runTasks(int n, bool parallel, const Task& task) {
     for (int t = 0; t < n; ++t) task(t);
     return;
   }
-  parallelForAlongside(
-      n, 1, [] {},
-      [&](int begin, int end, int) {
-        for (int t = begin; t < end; ++t) task(t);
-      });
+  parallelForDynamic(n, 1, [&](int begin, int end, int) {
+    for (int t = begin; t < end; ++t) task(t);
+  });
 }
 
 struct Spot {
@@ -585,17 +583,15 @@ double coveredCells(const std::vector<ChartShape>& charts, const std::vector<Eig
                     double scale, const PackOptions& options) {
   const int n = static_cast<int>(charts.size()), size = options.texture_size;
   std::vector<double> cells(n, 0.0);
-  parallelForAlongside(
-      n, 16, [] {},
-      [&](int begin, int end, int) {
-        Footprint fp;
-        for (int c = begin; c < end; ++c) {
-          const Eigen::Matrix2d frame = chartFrame(box[c], extent[c], scale, size);
-          footprint(framedPoints(charts[c], frame, scale), charts[c].triangles, borders[c],
-                    options.margin, 0, size, fp);
-          for (const auto& [low, high] : fp.cells.runs) cells[c] += high - low + 1;
-        }
-      });
+  parallelForDynamic(n, 16, [&](int begin, int end, int) {
+    Footprint fp;
+    for (int c = begin; c < end; ++c) {
+      const Eigen::Matrix2d frame = chartFrame(box[c], extent[c], scale, size);
+      footprint(framedPoints(charts[c], frame, scale), charts[c].triangles, borders[c],
+                options.margin, 0, size, fp);
+      for (const auto& [low, high] : fp.cells.runs) cells[c] += high - low + 1;
+    }
+  });
   double total = 0;
   for (double c : cells) total += c;
   return total;
@@ -720,16 +716,14 @@ Packing packCharts(const std::vector<ChartShape>& charts, const PackOptions& opt
   std::vector<Eigen::Vector2d> extent(n);
   std::vector<double> area(n, 0.0);
   double total = 0, longest = 0;
-  parallelForAlongside(
-      n, 16, [] {},
-      [&](int begin, int end, int) {
-        for (int c = begin; c < end; ++c) {
-          box[c] = smallestBoxRotation(charts[c].uv);
-          borders[c] = borderEdges(charts[c].triangles);
-          extent[c] = boundsOf(charts[c].uv, box[c]).extent();
-          area[c] = uvArea(charts[c].uv, charts[c].triangles);
-        }
-      });
+  parallelForDynamic(n, 16, [&](int begin, int end, int) {
+    for (int c = begin; c < end; ++c) {
+      box[c] = smallestBoxRotation(charts[c].uv);
+      borders[c] = borderEdges(charts[c].triangles);
+      extent[c] = boundsOf(charts[c].uv, box[c]).extent();
+      area[c] = uvArea(charts[c].uv, charts[c].triangles);
+    }
+  });
   for (int c = 0; c < n; ++c) {  // in chart order: the same sum on any number of cores
     total += area[c];
     longest = std::max(longest, neededLength(extent[c]));

@@ -11,6 +11,7 @@
 #include <new>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace sdp {
@@ -111,6 +112,15 @@ void parallelForAlongside(int n, int chunk, Task&& task, Body&& body, int most_w
   for (auto& t : threads) t.join();
   for (const auto& e : errors)
     if (e) std::rethrow_exception(e);
+}
+
+// Calls body(begin, end, worker) on chunks of [0, n) handed out one at a time from a shared
+// counter: for items of unequal cost (charts, bands of a texture), where fixed shares would leave
+// one core waiting on the other's long share.
+template <class Body>
+void parallelForDynamic(int n, int chunk, Body&& body, int most_workers = 0) {
+  parallelForAlongside(
+      n, chunk, [] {}, std::forward<Body>(body), most_workers);
 }
 
 }  // namespace sdp
