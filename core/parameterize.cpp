@@ -242,10 +242,15 @@ class Pipeline {
     // after its first step or two: reweighting gets a share of a limited budget.
     const bool shared = gridStepsRun() && std::isfinite(budget_work_);
     if (shared) reweighting.work_limit = kReweightShareBeforeGrid * budget_work_;
-    reweight(reweighting);
-    clock_.addWork(Stage::Refine, refine_meter_.spent);
-    // Its share spent, reweighting hands over: the later stages say why refinement stopped.
-    if (!(shared && reweighting.stop == RefineStop::WorkBudget)) noteStop(reweighting);
+    if (options_.reweight) {
+      reweight(reweighting);
+      clock_.addWork(Stage::Refine, refine_meter_.spent);
+      // Its share spent, reweighting hands over: the later stages say why refinement stopped.
+      if (!(shared && reweighting.stop == RefineStop::WorkBudget)) noteStop(reweighting);
+    } else {
+      // The free-boundary steps size their first step by a reweighting step's work.
+      reweighting.step_work = solve_work_ + metricsWork();
+    }
     report().l2_stretch_fixed_boundary = metrics_.l2;
     // Only the measured boundary is let go: it stands for the patch's own outline, which this
     // refines; a circle or square is a shape the user asked for (and it stays after a fallback

@@ -1162,6 +1162,7 @@ class AtlasBuilder {
     Options o = options_.chart;
     o.storage = StoragePolicy{};  // the atlas stores all charts at once, packed
     o.progress = [this](const char*, int) { return !cancelled_.load(); };
+    if (result_.report.faces >= options_.reweight_below_faces) o.reweight = false;
     if (o.refine_min_work > 0)
       o.refine_min_work *= static_cast<double>(faces) / std::max(result_.report.faces, 1);
     return o;

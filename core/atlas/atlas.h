@@ -65,6 +65,12 @@ struct AtlasOptions {
   // the input's order: a scan's faces as written may lie far apart, and every stage that walks
   // across faces then waits on memory. Below it the mesh is charted as it is. Tests lower it.
   int spatial_order_faces = 200000;
+  // Meshes of at least this many faces refine their charts without the reweighting steps on the
+  // fixed boundary (Options::reweight), straight from the linear map to the free-boundary steps:
+  // on the scans bench's meshes that took fewer charts, less seam and less time at the same L2
+  // (docs/measurements.md); below it the atlas bench's models keep the reweighting, which packs
+  // them better. Tests lower it.
+  int reweight_below_faces = 200000;
   // A bar per stage, for front ends that redraw only when the bar's position moves (MeshLab):
   // the run's percentage moves every few seconds at millions of faces. Called on the calling
   // thread with the stage (kAtlasStages), its own percent done and the run's percent, whenever

@@ -149,6 +149,10 @@ struct Options {
   // eta of the Yoshizawa-Belyaev-Seidel reweighting: 0.5 gave the lowest stretch of
   // {0.5, 1, 2} on the shared meshes (K = 10 and 30, sdp_bench --stretch-exponent).
   double stretch_exponent = 0.5;
+  // The K reweighting steps on the fixed boundary that refinement starts with; false goes from
+  // the linear map straight to the free-boundary steps (the atlas's charts of large meshes:
+  // AtlasOptions::reweight_below_faces).
+  bool reweight = true;
   // Refinement beyond the paper: with the measured boundary, after the K reweighting steps on
   // the fixed boundary, K as-rigid-as-possible steps that move the boundary too
   // (free_boundary.h), each checked to keep the map one-to-one. Circle and square stay as asked.

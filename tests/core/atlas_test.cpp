@@ -508,6 +508,27 @@ TEST(Atlas, ASpatiallyOrderedCopyIsGivenBackInTheInputsOrder) {
   expectCertified(mesh, makeAtlas(mesh.V, mesh.F, o), o);
 }
 
+// From reweight_below_faces faces the charts' refinement skips the reweighting steps on the fixed
+// boundary (atlas.h): none of their work is counted, the free-boundary steps still refine, and
+// the atlas keeps every gate.
+TEST(Atlas, LargeMeshesRefineTheirChartsWithoutReweighting) {
+  const Mesh mesh = together(sphere(3), torus(24, 10));
+  auto work = [](const AtlasResult& r, const std::string& key) {
+    for (const auto& [name, value] : r.report.stage_work)
+      if (name == key) return value;
+    return 0.0;
+  };
+  AtlasOptions o = quickOptions();
+  const AtlasResult reweighted = makeAtlas(mesh.V, mesh.F, o);
+  EXPECT_GT(work(reweighted, "refine"), 0);
+  o.reweight_below_faces = 0;
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o);
+  EXPECT_EQ(work(r, "refine"), 0);
+  EXPECT_GT(work(r, "free_boundary") + work(r, "newton"), 0);
+  EXPECT_LE(r.report.l2_stretch, 1.03);
+}
+
 TEST(Atlas, GutterIsKeptAtEveryWidth) {
   const Mesh mesh = together(sphere(3), torus(24, 10));
   for (int gutter : {0, 1, 4, 8}) {
