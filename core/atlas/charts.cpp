@@ -249,8 +249,8 @@ std::vector<Eigen::Vector3f> smoothedNormals(const FaceGraph& g, int vertices) {
 
 }  // namespace
 
-FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c,
-                         const std::function<void()>& step) {
+FaceGraph faceGraphGeometry(const Positions& V, const Triangles& F,
+                            const std::function<void()>& step) {
   FaceGraph g;
   g.F = &F;
   const int faces = static_cast<int>(F.rows());
@@ -278,17 +278,6 @@ FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectiv
     g.chartable[f] = !repeated && g.area[f] > tiny;
   }
   if (step) step();
-  g.across.assign(3 * static_cast<size_t>(faces), -1);
-  parallelFor(3 * faces, 3 * 16384, [&](int first, int last, int) {
-    for (int h = first; h < last; ++h) {
-      const int t = c.twin[h];
-      if (t < 0 || !g.chartable[h / 3] || !g.chartable[t / 3]) continue;
-      // Consistent orientation: the twin runs the opposite way.
-      const int from = F(h / 3, h % 3), to = F(h / 3, (h % 3 + 1) % 3);
-      if (F(t / 3, t % 3) == to && F(t / 3, (t % 3 + 1) % 3) == from) g.across[h] = t / 3;
-    }
-  });
-  if (step) step();
   int vertices = 0;
   for (int f = 0; f < faces; ++f)
     for (int k = 0; k < 3; ++k) vertices = std::max(vertices, F(f, k) + 1);
@@ -304,6 +293,29 @@ FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectiv
       if (k == 0 || F(f, k) != F(f, k - 1)) g.vertex_face[fill[F(f, k)]++] = f;
   if (step) step();
   g.growth_normal = smoothedNormals(g, vertices);
+  return g;
+}
+
+void joinFacesAcrossEdges(FaceGraph& g, const Connectivity& c) {
+  const Triangles& F = *g.F;
+  const int faces = g.faceCount();
+  g.across.assign(3 * static_cast<size_t>(faces), -1);
+  parallelFor(3 * faces, 3 * 16384, [&](int first, int last, int) {
+    for (int h = first; h < last; ++h) {
+      const int t = c.twin[h];
+      if (t < 0 || !g.chartable[h / 3] || !g.chartable[t / 3]) continue;
+      // Consistent orientation: the twin runs the opposite way.
+      const int from = F(h / 3, h % 3), to = F(h / 3, (h % 3 + 1) % 3);
+      if (F(t / 3, t % 3) == to && F(t / 3, (t % 3 + 1) % 3) == from) g.across[h] = t / 3;
+    }
+  });
+}
+
+FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c,
+                         const std::function<void()>& step) {
+  FaceGraph g = faceGraphGeometry(V, F, step);
+  if (step) step();
+  joinFacesAcrossEdges(g, c);
   return g;
 }
 

@@ -43,6 +43,12 @@ struct FaceGraph {
 FaceGraph buildFaceGraph(const Positions& V, const Triangles& F, const Connectivity& c,
                          const std::function<void()>& step = {});
 
+// buildFaceGraph in two parts: all but `across`, which needs no connectivity (so it can be built
+// while the connectivity is analysed; `step` between its passes), then `across` from the twins.
+FaceGraph faceGraphGeometry(const Positions& V, const Triangles& F,
+                            const std::function<void()>& step = {});
+void joinFacesAcrossEdges(FaceGraph& graph, const Connectivity& c);
+
 // Per face a region id, or one of these.
 constexpr int kUnassigned = -1;  // may be grown into
 constexpr int kOutside = -2;     // not part of the faces being split

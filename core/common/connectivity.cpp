@@ -53,8 +53,15 @@ class ConnectivityAnalysis {
     sortEdges();
     stepped();
     pairEdges();
-    numberComponents();
-    countBoundaryLoops();
+    // The two union-finds, faces into components and corners into fans, are independent: one
+    // on each core (each set is named by its least member, so the order of joins is free).
+    parallelForAlongside(
+        1, 1,
+        [&] {
+          numberComponents();
+          countBoundaryLoops();
+        },
+        [&](int, int, int) { joinCornersIntoFans(); });
     stepped();
     fansAndEulerCharacteristics();
     return std::move(c_);
@@ -77,30 +84,64 @@ class ConnectivityAnalysis {
   void sortEdges() { keys_ = sortedHalfEdges(F_, vertex_count_); }
 
   // One edge per run of equal keys: one half-edge is a boundary edge, two are twins (the same
-  // direction twice: inconsistent orientation), more are a non-manifold edge.
+  // direction twice: inconsistent orientation), more are a non-manifold edge. In slots of
+  // whole runs, one per core, their lists joined in slot order: the same for any count.
   void pairEdges() {
-    forEachEdgeRun(keys_, [&](size_t i, size_t j) {
-      edge_groups_.emplace_back(i, j);
-      const size_t count = j - i;
-      if (count == 1) {
-        ++c_.boundary_edges;
-        boundary_half_edges_.push_back(keys_[i].half_edge);
-        boundary_sets_.join(keys_[i].low, keys_[i].high);
-      } else if (count == 2) {
-        const int h = keys_[i].half_edge, g = keys_[i + 1].half_edge;
-        c_.twin[h] = g;
-        c_.twin[g] = h;
-        if (from(h) == from(g)) ++c_.inconsistent_edges;
-        face_sets_.join(h / 3, g / 3);
-      } else {
-        ++c_.non_manifold_edges;
+    struct Slot {
+      std::vector<size_t> edge_begin;
+      std::vector<int> boundary;
+      int inconsistent = 0, non_manifold = 0;
+    };
+    const size_t keys = keys_.size();
+    const int slots = static_cast<int>(std::clamp<size_t>(keys / 65536, 1, parallelWorkers()));
+    std::vector<size_t> slot_begin(slots + 1, keys);
+    for (int s = 0; s < slots; ++s) {
+      size_t i = keys * s / slots;  // moved on to the start of a run
+      while (i > 0 && i < keys && keys_[i].low == keys_[i - 1].low &&
+             keys_[i].high == keys_[i - 1].high)
+        ++i;
+      slot_begin[s] = std::max(i, s > 0 ? slot_begin[s - 1] : 0);
+    }
+    std::vector<Slot> slot(slots);
+    parallelFor(slots, 1, [&](int first, int last, int) {
+      for (int s = first; s < last; ++s) {
+        Slot& out = slot[s];
+        out.edge_begin.reserve((slot_begin[s + 1] - slot_begin[s]) / 2 + 1);
+        for (size_t i = slot_begin[s]; i < slot_begin[s + 1];) {
+          size_t j = i + 1;
+          while (j < keys && keys_[j].low == keys_[i].low && keys_[j].high == keys_[i].high) ++j;
+          out.edge_begin.push_back(i);
+          if (j - i == 1) {
+            out.boundary.push_back(keys_[i].half_edge);
+          } else if (j - i == 2) {
+            const int h = keys_[i].half_edge, g = keys_[i + 1].half_edge;
+            c_.twin[h] = g;
+            c_.twin[g] = h;
+            if (from(h) == from(g)) ++out.inconsistent;
+          } else {
+            ++out.non_manifold;
+          }
+          i = j;
+        }
       }
     });
-    c_.edges = static_cast<int>(edge_groups_.size());
+    for (Slot& out : slot) {
+      edge_begin_.insert(edge_begin_.end(), out.edge_begin.begin(), out.edge_begin.end());
+      boundary_half_edges_.insert(boundary_half_edges_.end(), out.boundary.begin(),
+                                  out.boundary.end());
+      c_.inconsistent_edges += out.inconsistent;
+      c_.non_manifold_edges += out.non_manifold;
+      out = Slot();
+    }
+    c_.edges = static_cast<int>(edge_begin_.size());
+    c_.boundary_edges = static_cast<int>(boundary_half_edges_.size());
+    edge_begin_.push_back(keys);
   }
 
-  // Components, numbered in order of their first face.
+  // Components (faces joined across two-face edges), numbered in order of their first face.
   void numberComponents() {
+    for (int h = 0; h < 3 * faces_; ++h)
+      if (c_.twin[h] > h) face_sets_.join(h / 3, c_.twin[h] / 3);
     c_.component.assign(faces_, -1);
     std::vector<int> number_of_root(faces_, -1);
     for (int f = 0; f < faces_; ++f) {
@@ -112,6 +153,7 @@ class ConnectivityAnalysis {
 
   // Boundary loops, each given to the component of one of its faces.
   void countBoundaryLoops() {
+    for (int h : boundary_half_edges_) boundary_sets_.join(from(h), to(h));
     c_.component_loops.assign(c_.components, 0);
     std::vector<char> loop_seen(vertex_count_, 0);
     for (int h : boundary_half_edges_) {
@@ -126,25 +168,30 @@ class ConnectivityAnalysis {
   // The corner of face f at vertex v (its first, for a face that repeats v).
   int cornerOf(int f, int v) const { return 3 * f + (F_(f, 0) == v ? 0 : F_(f, 1) == v ? 1 : 2); }
 
-  // Non-manifold vertices and the Euler characteristic V - E + F of each component (a vertex or
-  // edge shared by components counts once in each). A vertex's faces form fans joined across
-  // two-face edges at it: its corners (3 f + k at F(f, k)) joined across every twin pair at both
-  // of the pair's ends (and a face's corners at one vertex, when it repeats it) are its fans, one
-  // set each, named by its least corner. One pass over the half-edges and one over the corners,
-  // not a search per vertex among its faces (a third of the time at a million faces).
-  void fansAndEulerCharacteristics() {
-    DisjointSets corners(3 * faces_);
+  // A vertex's faces form fans joined across two-face edges at it: its corners (3 f + k at
+  // F(f, k)) joined across every twin pair at both of the pair's ends (and a face's corners at one
+  // vertex, when it repeats it) are its fans, one set each, named by its least corner. One pass
+  // over the half-edges, not a search per vertex among its faces (a third of the time at a
+  // million faces).
+  void joinCornersIntoFans() {
+    corners_ = DisjointSets(3 * faces_);
     for (int h = 0; h < 3 * faces_; ++h) {
       const int t = c_.twin[h];
       if (t < h) continue;  // each pair once; -1: no twin
       const int f = h / 3, g = t / 3;
-      corners.join(cornerOf(f, from(h)), cornerOf(g, from(h)));
-      corners.join(cornerOf(f, to(h)), cornerOf(g, to(h)));
+      corners_.join(cornerOf(f, from(h)), cornerOf(g, from(h)));
+      corners_.join(cornerOf(f, to(h)), cornerOf(g, to(h)));
     }
     for (int f = 0; f < faces_; ++f)
       for (int k = 0; k < 3; ++k)
         for (int l = k + 1; l < 3; ++l)
-          if (F_(f, k) == F_(f, l)) corners.join(3 * f + k, 3 * f + l);
+          if (F_(f, k) == F_(f, l)) corners_.join(3 * f + k, 3 * f + l);
+  }
+
+  // Non-manifold vertices and the Euler characteristic V - E + F of each component (a vertex or
+  // edge shared by components counts once in each), from the fans.
+  void fansAndEulerCharacteristics() {
+    DisjointSets& corners = corners_;
     // Per vertex its fans, counted, and one of them (its component stands for the vertex's when
     // it has one fan: a fan lies in one component).
     std::vector<int> fans(vertex_count_, 0), some_fan(vertex_count_, -1);
@@ -173,7 +220,8 @@ class ConnectivityAnalysis {
     shared.erase(std::unique(shared.begin(), shared.end()), shared.end());
     for (const auto& [v, component] : shared) ++c_.euler_characteristic[component];  // V
     std::vector<int> parts;
-    for (const auto& [begin, end] : edge_groups_) {  // - E, once per component the edge is in
+    for (size_t e = 0; e + 1 < edge_begin_.size(); ++e) {  // - E, once per component it is in
+      const size_t begin = edge_begin_[e], end = edge_begin_[e + 1];
       const int first = c_.component[keys_[begin].half_edge / 3];
       if (end - begin == 1 ||
           (end - begin == 2 && c_.component[keys_[begin + 1].half_edge / 3] == first)) {
@@ -191,10 +239,10 @@ class ConnectivityAnalysis {
   const Triangles& F_;
   const int faces_, vertex_count_;
   Connectivity c_;
-  std::vector<HalfEdgeKey> keys_;  // undirected edges: the half-edges sorted by their ends
-  std::vector<std::pair<size_t, size_t>> edge_groups_;  // [begin, end) into keys_
+  std::vector<HalfEdgeKey> keys_;   // undirected edges: the half-edges sorted by their ends
+  std::vector<size_t> edge_begin_;  // per edge its first key, then keys_.size()
   std::vector<int> boundary_half_edges_;
-  DisjointSets face_sets_, boundary_sets_;
+  DisjointSets face_sets_, boundary_sets_, corners_{0};
 };
 
 }  // namespace
@@ -206,21 +254,47 @@ Connectivity analyzeConnectivity(const Triangles& F, int vertex_count,
 
 std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count) {
   // By lower end with a counting sort (a comparison sort of every half-edge was seconds at
-  // millions of faces), then each vertex's few half-edges by (high, half_edge).
-  const int faces = static_cast<int>(F.rows());
+  // millions of faces), then each vertex's few half-edges by (high, half_edge). The counting
+  // sort runs in slots of consecutive half-edges, each counting and placing its own: filled in
+  // slot order, the keys are the same for any number of slots, so one per core (a few at most:
+  // each holds a count per vertex).
+  const int half_edges = 3 * static_cast<int>(F.rows());
   auto from = [&](int h) { return F(h / 3, h % 3); };
   auto to = [&](int h) { return F(h / 3, (h % 3 + 1) % 3); };
+  const int slots = std::clamp(half_edges / (3 * 16384), 1, std::min(parallelWorkers(), 4));
+  std::vector<std::vector<int>> next(slots);  // per slot and vertex: where its next key goes
+  parallelForSlots(half_edges, slots, [&](int first, int last, int slot) {
+    std::vector<int>& count = next[slot];
+    count.assign(vertex_count, 0);
+    for (int h = first; h < last; ++h)
+      if (from(h) != to(h)) ++count[std::min(from(h), to(h))];
+  });
   std::vector<int> begin(vertex_count + 1, 0);
-  for (int h = 0; h < 3 * faces; ++h)
-    if (from(h) != to(h)) ++begin[std::min(from(h), to(h)) + 1];
-  for (int v = 0; v < vertex_count; ++v) begin[v + 1] += begin[v];
-  std::vector<HalfEdgeKey> keys(begin[vertex_count]);
-  std::vector<int> fill(begin.begin(), begin.end() - 1);
-  for (int h = 0; h < 3 * faces; ++h)  // half-edges in order: each run starts sorted by them
-    if (from(h) != to(h)) {
-      const int low = std::min(from(h), to(h));
-      keys[fill[low]++] = {low, std::max(from(h), to(h)), h};
+  for (int v = 0; v < vertex_count; ++v) {
+    int total = 0;
+    for (int s = 0; s < slots; ++s) total += next[s][v];
+    begin[v + 1] = begin[v] + total;
+  }
+  parallelFor(vertex_count, 16384, [&](int first_vertex, int last_vertex, int) {
+    for (int v = first_vertex; v < last_vertex; ++v) {
+      int place = begin[v];
+      for (int s = 0; s < slots; ++s) {
+        const int count = next[s][v];
+        next[s][v] = place;
+        place += count;
+      }
     }
+  });
+  std::vector<HalfEdgeKey> keys(begin[vertex_count]);
+  parallelForSlots(half_edges, slots, [&](int first, int last, int slot) {
+    std::vector<int>& place = next[slot];
+    for (int h = first; h < last; ++h)  // half-edges in order: each run starts sorted by them
+      if (from(h) != to(h)) {
+        const int low = std::min(from(h), to(h));
+        keys[place[low]++] = {low, std::max(from(h), to(h)), h};
+      }
+  });
+  next.clear();
   // Each vertex's run on its own: on every core, the same keys.
   parallelFor(vertex_count, 16384, [&](int first_vertex, int last_vertex, int) {
     for (int v = first_vertex; v < last_vertex; ++v) {
