@@ -144,15 +144,23 @@ class StoredMap {
  public:
   StoredMap(const UvMesh& mesh, LocalUVs& uv, UVStorage storage)
       : mesh_(mesh), uv_(uv), rounding_(storage), text_(uv.size()) {
+    // Faces' areas on every core, summed per chart in face order (the same on any machine).
+    const int faces = static_cast<int>(mesh.face.rows());
+    std::vector<double> face_area(faces);
+    parallelFor(faces, 16384, [&](int first, int last, int) {
+      for (int f = first; f < last; ++f) face_area[f] = area(uv, f);
+    });
     std::vector<double> chart_area;
-    for (int f = 0; f < static_cast<int>(mesh.face.rows()); ++f) {
+    for (int f = 0; f < faces; ++f) {
       const int c = mesh.chart[f];
       if (c >= static_cast<int>(chart_area.size())) chart_area.resize(c + 1, 0.0);
-      chart_area[c] += area(uv, f);
+      chart_area[c] += face_area[f];
     }
     for (double total : chart_area) rule_.emplace_back(total);
-    for (size_t r = 0; r < uv.size(); ++r)
-      if (mesh.used[r]) place(static_cast<int>(r), uv[r]);
+    parallelFor(static_cast<int>(uv.size()), 16384, [&](int first, int last, int) {
+      for (int r = first; r < last; ++r)
+        if (mesh.used[r]) place(r, uv[r]);
+    });
   }
 
   // Moves row r to the storable position nearest p.
@@ -321,14 +329,23 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy,
   StorageCounts counts;
   const UvMesh mesh(layout);
   if (step) step();
-  LocalUVs uv(layout.uv.rows());
-  for (size_t r = 0; r < uv.size(); ++r) uv[r] = layout.uv.row(r).transpose();
+  const int rows = static_cast<int>(layout.uv.rows());
+  LocalUVs uv(rows);
+  parallelFor(rows, 16384, [&](int first, int last, int) {
+    for (int r = first; r < last; ++r) uv[r] = layout.uv.row(r).transpose();
+  });
   if (policy.fit_unit_square) fitUnitSquare(mesh, uv);
   const int faces = layout.faceCount();
   StoredMap map(mesh, uv, policy.precision);
+  // The faces storage leaves degenerate, found in slots on every core, listed in face order.
+  const int slots = faceSumSlots(faces);
+  std::vector<std::vector<int>> bad_in_slot(slots);
+  parallelForSlots(faces, slots, [&](int begin, int end, int slot) {
+    for (int f = begin; f < end; ++f)
+      if (!map.valid(f)) bad_in_slot[slot].push_back(f);
+  });
   std::vector<int> bad;
-  for (int f = 0; f < faces; ++f)
-    if (!map.valid(f)) bad.push_back(f);
+  for (const std::vector<int>& part : bad_in_slot) bad.insert(bad.end(), part.begin(), part.end());
   counts.degenerate_faces = static_cast<int>(bad.size());
   if (step) step();
 
@@ -348,7 +365,9 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy,
   if (!border_simple && !edgesAreSimple(mesh.border, uv))
     throw ParameterizationError("no one-to-one map as stored (" + std::string(name) +
                                 " texture coordinates): the rounded boundary touches itself");
-  for (size_t r = 0; r < uv.size(); ++r) layout.uv.row(r) = uv[r].transpose();
+  parallelFor(rows, 16384, [&](int first, int last, int) {
+    for (int r = first; r < last; ++r) layout.uv.row(r) = uv[r].transpose();
+  });
   return counts;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -79,6 +80,28 @@ TEST(FreeBoundary, ClearanceSeesABorderAHairsBreadthFromItself) {
   LocalUVs open = uv;
   open[4].y() = 0.1;
   EXPECT_TRUE(edgesAreSimple(loop, open, borderClearance(loop, open)));
+}
+
+TEST(FreeBoundary, LongBordersAreSweptOnEveryCoreWithTheSameMeetings) {
+  // A zigzag of 200,001 vertices (past the two-halves sort and many sweep slots) whose edges
+  // never meet, then three of its vertices pulled onto other edges: exactly those meetings
+  // found, wherever they fall among the slots.
+  const int n = 200000;
+  LocalUVs uv(n + 1);
+  for (int i = 0; i <= n; ++i)
+    uv[i] = {static_cast<double>(i), 2.0 * (i % 2)};  // exact: meetings too
+  std::vector<BorderEdge> path;
+  for (int i = 0; i < n; ++i) path.push_back({i, i + 1});
+  EXPECT_TRUE(edgesAreSimple(path, uv));
+  EXPECT_TRUE(verticesOfMeetingEdges(path, uv).empty());
+  // Vertex k (a low one, k even) raised to lie on the edge two steps on (k + 2, k + 3): that
+  // edge meets both of k's edges.
+  for (int k : {10, 100000, 199990}) uv[k] = 0.5 * (uv[k + 2] + uv[k + 3]);
+  EXPECT_FALSE(edgesAreSimple(path, uv));
+  const std::vector<int> found = verticesOfMeetingEdges(path, uv);
+  for (int k : {10, 100000, 199990})
+    for (int v : {k - 1, k, k + 1, k + 2, k + 3})
+      EXPECT_TRUE(std::binary_search(found.begin(), found.end(), v)) << v;
 }
 
 // camel_b: the convex boundary crushes its boundary fins (fixed-boundary L2 17); letting the
