@@ -64,17 +64,39 @@ struct UvMesh {
     const int rows = static_cast<int>(layout.uv.rows());
     const int faces = layout.faceCount();
     used.assign(rows, 0);
+    // Faces around each row: a counting sort in slots of consecutive faces on every core, filled
+    // in slot order (the same lists for any count of slots; a few at most, each holding a count
+    // per row).
+    const int fill_slots = std::clamp(faces / 16384, 1, std::min(parallelWorkers(), 4));
+    std::vector<std::vector<int>> next(fill_slots);  // per slot and row: where its next face goes
+    parallelForSlots(faces, fill_slots, [&](int begin, int end, int slot) {
+      next[slot].assign(rows, 0);
+      for (int f = begin; f < end; ++f)
+        for (int k = 0; k < 3; ++k) ++next[slot][face(f, k)];
+    });
     face_begin.assign(rows + 1, 0);
-    for (int f = 0; f < faces; ++f)
-      for (int k = 0; k < 3; ++k) ++face_begin[face(f, k) + 1];
-    for (int r = 0; r < rows; ++r) face_begin[r + 1] += face_begin[r];
-    face_list.resize(face_begin[rows]);
-    std::vector<int> fill(face_begin.begin(), face_begin.end() - 1);
-    for (int f = 0; f < faces; ++f)
-      for (int k = 0; k < 3; ++k) {
-        face_list[fill[face(f, k)]++] = f;
-        used[face(f, k)] = 1;
+    for (int r = 0; r < rows; ++r) {
+      int total = 0;
+      for (int s = 0; s < fill_slots; ++s) total += next[s][r];
+      face_begin[r + 1] = face_begin[r] + total;
+    }
+    parallelFor(rows, 16384, [&](int first, int last, int) {
+      for (int r = first; r < last; ++r) {
+        int place = face_begin[r];
+        for (int s = 0; s < fill_slots; ++s) {
+          const int count = next[s][r];
+          next[s][r] = place;
+          place += count;
+        }
+        used[r] = place > face_begin[r] ? 1 : 0;
       }
+    });
+    face_list.resize(face_begin[rows]);
+    parallelForSlots(faces, fill_slots, [&](int begin, int end, int slot) {
+      for (int f = begin; f < end; ++f)
+        for (int k = 0; k < 3; ++k) face_list[next[slot][face(f, k)]++] = f;
+    });
+    next.clear();
     // Per row, the other ends of the edges at it in its faces: an edge met once is a border
     // edge, and the distinct ends are the row's neighbours (a local sort per row, no global one).
     // Slices of rows on every core, joined in row order: the same lists on any machine.
@@ -83,17 +105,25 @@ struct UvMesh {
     parallelForSlots(rows, slots, [&](int begin, int end, int slot) {
       slice[slot] = neighboursOfRows(begin, end);
     });
+    std::vector<size_t> listed(slots + 1, 0), bordered(slots + 1, 0);
+    for (int s = 0; s < slots; ++s) {
+      listed[s + 1] = listed[s] + slice[s].list.size();
+      bordered[s + 1] = bordered[s] + slice[s].border.size();
+    }
     neighbour_begin.assign(rows + 1, 0);
-    size_t listed = 0;
-    for (const Neighbours& part : slice) listed += part.list.size();
-    neighbour_list.reserve(listed);
-    for (const Neighbours& part : slice) {
+    for (const Neighbours& part : slice)
       for (size_t i = 0; i < part.count.size(); ++i)
         neighbour_begin[part.first_row + i + 1] =
             neighbour_begin[part.first_row + i] + part.count[i];
-      neighbour_list.insert(neighbour_list.end(), part.list.begin(), part.list.end());
-      border.insert(border.end(), part.border.begin(), part.border.end());
-    }
+    neighbour_list.resize(listed[slots]);
+    border.resize(bordered[slots]);
+    parallelFor(slots, 1, [&](int first, int last, int) {
+      for (int s = first; s < last; ++s) {
+        std::copy(slice[s].list.begin(), slice[s].list.end(), neighbour_list.begin() + listed[s]);
+        std::copy(slice[s].border.begin(), slice[s].border.end(), border.begin() + bordered[s]);
+        slice[s] = Neighbours();
+      }
+    });
     chart = layout.chart.empty() ? std::vector<int>(faces, 0) : layout.chart;
   }
 
