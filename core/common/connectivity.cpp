@@ -253,48 +253,21 @@ Connectivity analyzeConnectivity(const Triangles& F, int vertex_count,
 }
 
 std::vector<HalfEdgeKey> sortedHalfEdges(const Triangles& F, int vertex_count) {
-  // By lower end with a counting sort (a comparison sort of every half-edge was seconds at
-  // millions of faces), then each vertex's few half-edges by (high, half_edge). The counting
-  // sort runs in slots of consecutive half-edges, each counting and placing its own: filled in
-  // slot order, the keys are the same for any number of slots, so one per core (a few at most:
-  // each holds a count per vertex).
-  const int half_edges = 3 * static_cast<int>(F.rows());
+  // By lower end with a counting sort on every core (a comparison sort of every half-edge was
+  // seconds at millions of faces), then each vertex's few half-edges by (high, half_edge).
   auto from = [&](int h) { return F(h / 3, h % 3); };
   auto to = [&](int h) { return F(h / 3, (h % 3 + 1) % 3); };
-  const int slots = std::clamp(half_edges / (3 * 16384), 1, std::min(parallelWorkers(), 4));
-  std::vector<std::vector<int>> next(slots);  // per slot and vertex: where its next key goes
-  parallelForSlots(half_edges, slots, [&](int first, int last, int slot) {
-    std::vector<int>& count = next[slot];
-    count.assign(vertex_count, 0);
-    for (int h = first; h < last; ++h)
-      if (from(h) != to(h)) ++count[std::min(from(h), to(h))];
-  });
-  std::vector<int> begin(vertex_count + 1, 0);
-  for (int v = 0; v < vertex_count; ++v) {
-    int total = 0;
-    for (int s = 0; s < slots; ++s) total += next[s][v];
-    begin[v + 1] = begin[v] + total;
-  }
-  parallelFor(vertex_count, 16384, [&](int first_vertex, int last_vertex, int) {
-    for (int v = first_vertex; v < last_vertex; ++v) {
-      int place = begin[v];
-      for (int s = 0; s < slots; ++s) {
-        const int count = next[s][v];
-        next[s][v] = place;
-        place += count;
-      }
-    }
-  });
-  std::vector<HalfEdgeKey> keys(begin[vertex_count]);
-  parallelForSlots(half_edges, slots, [&](int first, int last, int slot) {
-    std::vector<int>& place = next[slot];
-    for (int h = first; h < last; ++h)  // half-edges in order: each run starts sorted by them
-      if (from(h) != to(h)) {
-        const int low = std::min(from(h), to(h));
-        keys[place[low]++] = {low, std::max(from(h), to(h)), h};
-      }
-  });
-  next.clear();
+  std::vector<HalfEdgeKey> keys;
+  auto placed = [&](int position, int h) {
+    keys[position] = {std::min(from(h), to(h)), std::max(from(h), to(h)), h};
+  };
+  auto halfEdges = [&](int first, int last, auto&& emit) {
+    for (int h = first; h < last; ++h)  // in order: each run starts sorted by half-edge
+      if (from(h) != to(h)) emit(std::min(from(h), to(h)), h);
+  };
+  const std::vector<int> begin = bucketsInOrder(
+      3 * static_cast<int>(F.rows()), vertex_count, halfEdges,
+      [&](int total) { keys.resize(total); }, placed);
   // Each vertex's run on its own: on every core, the same keys.
   parallelFor(vertex_count, 16384, [&](int first_vertex, int last_vertex, int) {
     for (int v = first_vertex; v < last_vertex; ++v) {

@@ -123,4 +123,44 @@ void parallelForDynamic(int n, int chunk, Body&& body, int most_workers = 0) {
       n, chunk, [] {}, std::forward<Body>(body), most_workers);
 }
 
+// Places items [0, n) in buckets [0, buckets), each bucket's items in item order, and returns the
+// buckets' begins (buckets + 1 of them): a counting sort in slots of consecutive items, one per
+// core (a few at most: each holds a count per bucket), filled in slot order, so the placement is
+// the same on any number of cores. forEach(begin, end, emit) calls emit(bucket, item) for the
+// items of [begin, end) that go somewhere (none, one or several each); it runs twice, to count
+// and to place. size(total) is called once the items placed are counted, then
+// place(position, item) for each.
+template <class ForEach, class Size, class Place>
+std::vector<int> bucketsInOrder(int n, int buckets, ForEach&& forEach, Size&& size, Place&& place) {
+  const int slots = std::clamp(n / 16384, 1, std::min(parallelWorkers(), 4));
+  std::vector<std::vector<int>> next(slots);  // per slot and bucket: where its next item goes
+  parallelForSlots(n, slots, [&](int begin, int end, int slot) {
+    std::vector<int>& count = next[slot];
+    count.assign(buckets, 0);
+    forEach(begin, end, [&](int bucket, int) { ++count[bucket]; });
+  });
+  std::vector<int> bucket_begin(buckets + 1, 0);
+  for (int b = 0; b < buckets; ++b) {
+    int total = 0;
+    for (int s = 0; s < slots; ++s) total += next[s][b];
+    bucket_begin[b + 1] = bucket_begin[b] + total;
+  }
+  parallelFor(buckets, 16384, [&](int first, int last, int) {
+    for (int b = first; b < last; ++b) {
+      int position = bucket_begin[b];
+      for (int s = 0; s < slots; ++s) {
+        const int count = next[s][b];
+        next[s][b] = position;
+        position += count;
+      }
+    }
+  });
+  size(bucket_begin[buckets]);
+  parallelForSlots(n, slots, [&](int begin, int end, int slot) {
+    std::vector<int>& position = next[slot];
+    forEach(begin, end, [&](int bucket, int item) { place(position[bucket]++, item); });
+  });
+  return bucket_begin;
+}
+
 }  // namespace sdp

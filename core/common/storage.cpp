@@ -64,39 +64,18 @@ struct UvMesh {
     const int rows = static_cast<int>(layout.uv.rows());
     const int faces = layout.faceCount();
     used.assign(rows, 0);
-    // Faces around each row: a counting sort in slots of consecutive faces on every core, filled
-    // in slot order (the same lists for any count of slots; a few at most, each holding a count
-    // per row).
-    const int fill_slots = std::clamp(faces / 16384, 1, std::min(parallelWorkers(), 4));
-    std::vector<std::vector<int>> next(fill_slots);  // per slot and row: where its next face goes
-    parallelForSlots(faces, fill_slots, [&](int begin, int end, int slot) {
-      next[slot].assign(rows, 0);
-      for (int f = begin; f < end; ++f)
-        for (int k = 0; k < 3; ++k) ++next[slot][face(f, k)];
-    });
-    face_begin.assign(rows + 1, 0);
-    for (int r = 0; r < rows; ++r) {
-      int total = 0;
-      for (int s = 0; s < fill_slots; ++s) total += next[s][r];
-      face_begin[r + 1] = face_begin[r] + total;
-    }
+    // Faces around each row, in face order, on every core (parallel.h).
+    face_begin = bucketsInOrder(
+        faces, rows,
+        [&](int begin, int end, auto&& emit) {
+          for (int f = begin; f < end; ++f)
+            for (int k = 0; k < 3; ++k) emit(face(f, k), f);
+        },
+        [&](int total) { face_list.resize(total); },
+        [&](int position, int f) { face_list[position] = f; });
     parallelFor(rows, 16384, [&](int first, int last, int) {
-      for (int r = first; r < last; ++r) {
-        int place = face_begin[r];
-        for (int s = 0; s < fill_slots; ++s) {
-          const int count = next[s][r];
-          next[s][r] = place;
-          place += count;
-        }
-        used[r] = place > face_begin[r] ? 1 : 0;
-      }
+      for (int r = first; r < last; ++r) used[r] = face_begin[r + 1] > face_begin[r] ? 1 : 0;
     });
-    face_list.resize(face_begin[rows]);
-    parallelForSlots(faces, fill_slots, [&](int begin, int end, int slot) {
-      for (int f = begin; f < end; ++f)
-        for (int k = 0; k < 3; ++k) face_list[next[slot][face(f, k)]++] = f;
-    });
-    next.clear();
     // Per row, the other ends of the edges at it in its faces: an edge met once is a border
     // edge, and the distinct ends are the row's neighbours (a local sort per row, no global one).
     // Slices of rows on every core, joined in row order: the same lists on any machine.
