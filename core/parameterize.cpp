@@ -238,11 +238,11 @@ class Pipeline {
     if (options_.refine_work_factor > 0)
       budget_work_ = std::max(options_.refine_min_work, options_.refine_work_factor * linear_work_);
     RefineBudget reweighting = newBudget();
-    // Where the grid's Newton steps run, they gain more per unit of work than reweighting
-    // after its first step or two: reweighting gets a share of a limited budget.
-    const bool shared = gridStepsRun() && std::isfinite(budget_work_);
-    if (shared) reweighting.work_limit = kReweightShareBeforeGrid * budget_work_;
     if (options_.reweight) {
+      // Where the grid's Newton steps run, they gain more per unit of work than reweighting
+      // after its first step or two: reweighting gets a share of a limited budget.
+      const bool shared = gridStepsRun() && std::isfinite(budget_work_);
+      if (shared) reweighting.work_limit = kReweightShareBeforeGrid * budget_work_;
       reweight(reweighting);
       clock_.addWork(Stage::Refine, refine_meter_.spent);
       // Its share spent, reweighting hands over: the later stages say why refinement stopped.

@@ -272,7 +272,7 @@ std::vector<std::vector<int>> components(const FaceGraph& g) {
 // the probe's time from 20.8 to 16.2 s with 604 charts instead of 618 (the 1.38M-face armadillo:
 // 23 s, 204 charts); 5000 split the bumpy cube and the bunny more.
 constexpr size_t kFacesPerFirstPart = 10000;
-// Above kFacesForFullFirstParts faces the first parts shrink in proportion, down to
+// On large meshes (kLargeMeshFaces) the first parts shrink in proportion, down to
 // kFewestFacesPerFirstPart: the refinement floor (kAtlasMinRefineWork) is shared by area, so a
 // part of a large mesh gets little of it, stops on the work budget above the chart limit and is
 // split level by level. On the scans bench's cheburashka x64 (828k faces, 8192 texture) with
@@ -280,13 +280,12 @@ constexpr size_t kFacesPerFirstPart = 10000;
 // charts from 1397 / 1713 to 1143 / 1397, seam 99.6 -> 76.9 and efficiency 0.558 -> 0.653
 // (docs/measurements.md). On the atlas bench's models (at most 86k faces) 1500 would add charts
 // and seam (the bumpy cube 11 -> 28 charts), so they keep 10000.
-constexpr size_t kFacesForFullFirstParts = 200000;
 constexpr size_t kFewestFacesPerFirstPart = 1500;
 
 size_t facesPerFirstPart(size_t mesh_faces) {
-  if (mesh_faces <= kFacesForFullFirstParts) return kFacesPerFirstPart;
-  const double scaled = static_cast<double>(kFacesPerFirstPart) * kFacesForFullFirstParts /
-                        static_cast<double>(mesh_faces);
+  if (mesh_faces < static_cast<size_t>(kLargeMeshFaces)) return kFacesPerFirstPart;
+  const double scaled =
+      static_cast<double>(kFacesPerFirstPart) * kLargeMeshFaces / static_cast<double>(mesh_faces);
   return std::max(kFewestFacesPerFirstPart, static_cast<size_t>(scaled));
 }
 
@@ -349,7 +348,7 @@ constexpr double kMergedBoxTolerance = 5e-3;
 // 1.49 times (a bolt's thread; the rest at most 1.16), and the 348 tries above 1.75 were all
 // refused after flattening.
 constexpr double kMostJoinedBoxRatio = 1.75;
-// Above kMergedFacesForLargeMeshes faces the bar is kMostJoinedBoxRatioOfLargeMeshes: on the scans
+// On large meshes (kLargeMeshFaces) the bar is kMostJoinedBoxRatioOfLargeMeshes: on the scans
 // bench's armadillo x16 (with and without noise) and fertility x64 the merges kept came to at
 // most 1.019 times, and of the faces of pairs flattened and refused 19-39% were in pairs above
 // 1.05. Refusing those unflattened left the same bytes there, 2 more charts of 4104 on armadillo
@@ -791,9 +790,8 @@ class AtlasBuilder {
     // limits every time (docs/measurements.md).
     const Chart &a = charts_[t.a], &b = charts_[t.b];
     const double parts = boxArea(a) + boxArea(b);
-    const double most_ratio = static_cast<double>(F_.rows()) > kMergedFacesForLargeMeshes
-                                  ? kMostJoinedBoxRatioOfLargeMeshes
-                                  : kMostJoinedBoxRatio;
+    const double most_ratio =
+        F_.rows() >= kLargeMeshFaces ? kMostJoinedBoxRatioOfLargeMeshes : kMostJoinedBoxRatio;
     if (joinedBoxArea(a, b) > most_ratio * parts) return false;
     std::string why;
     if (!flattenChart(V_, F_, t.faces, chartOptions(t.faces.size()), merged, why)) return false;

@@ -43,6 +43,11 @@ inline Options atlasChartDefaults() {
 using StageProgressCallback =
     std::function<void(const char* stage, int stage_percent, int run_percent)>;
 
+// From this many faces a mesh is large (a scan): the settings fitted on the scans bench apply
+// (spatial order, charts refined without reweighting, smaller first parts, the merge bar of large
+// meshes); below it, those fitted on the atlas and CAD benches, whose models are all smaller.
+constexpr int kLargeMeshFaces = 200000;
+
 // What the user chooses. `chart` carries the patch pipeline's choices for every chart (weights,
 // boundary, refinement steps, progress callback); its fit_unit_square and storage are ignored.
 struct AtlasOptions {
@@ -64,13 +69,13 @@ struct AtlasOptions {
   // a Morton curve of their centroids, vertices as the faces first use them) and given back in
   // the input's order: a scan's faces as written may lie far apart, and every stage that walks
   // across faces then waits on memory. Below it the mesh is charted as it is. Tests lower it.
-  int spatial_order_faces = 200000;
+  int spatial_order_faces = kLargeMeshFaces;
   // Meshes of at least this many faces refine their charts without the reweighting steps on the
   // fixed boundary (Options::reweight), straight from the linear map to the free-boundary steps:
   // on the scans bench's meshes that took fewer charts, less seam and less time at the same L2
   // (docs/measurements.md); below it the atlas bench's models keep the reweighting, which packs
   // them better. Tests lower it.
-  int reweight_below_faces = 200000;
+  int reweight_below_faces = kLargeMeshFaces;
   // A bar per stage, for front ends that redraw only when the bar's position moves (MeshLab):
   // the run's percentage moves every few seconds at millions of faces. Called on the calling
   // thread with the stage (kAtlasStages), its own percent done and the run's percent, whenever
