@@ -429,8 +429,9 @@ class AtlasBuilder {
       : V_(V), F_(F), options_(options), start_(start), bar_(bar) {}
 
   // `geometry`: faceGraphGeometry(V, F) when already built (alongside the connectivity), else
-  // empty.
-  AtlasResult run(const Connectivity& connectivity, FaceGraph geometry = {}) {
+  // empty. Both are taken, and freed once used: at 13M faces the graph is over a gigabyte, and
+  // packing and storage, where a run's memory peaks, need neither.
+  AtlasResult run(Connectivity connectivity, FaceGraph geometry = {}) {
     report(kConnectivityPercent);
     auto stage = start_;
     int graph_step = 0;  // the face graph's passes: seconds apart at millions of faces
@@ -446,6 +447,7 @@ class AtlasBuilder {
     r.non_manifold_edges = connectivity.non_manifold_edges;
     r.non_manifold_vertices = connectivity.non_manifold_vertices;
     r.inconsistent_edges = connectivity.inconsistent_edges;
+    connectivity = Connectivity();
     total_area_ = 0;
     int chartable_faces = 0;
     for (int f = 0; f < graph.faceCount(); ++f)
@@ -468,6 +470,7 @@ class AtlasBuilder {
     report(kMergePercent);  // every stage's bar starts, merging or not
     if (options_.merge_charts) mergeCharts(graph);
     scratch_.clear();  // about 12 bytes a face each: not kept through packing and storage
+    graph = FaceGraph();
 
     packAndStore();
     r.seconds = secondsSince(start_.wall);
@@ -1362,8 +1365,8 @@ AtlasResult atlasOfTurnedFaces(const Positions& V, const Triangles& F, const Atl
   int turned_faces = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (turn[f]) std::swap(turned(f, 1), turned(f, 2)), ++turned_faces;
-  const Connectivity connectivity = analyzeConnectivity(turned, static_cast<int>(V.rows()), step);
-  AtlasResult result = AtlasBuilder(V, turned, options, start, bar).run(connectivity);
+  Connectivity connectivity = analyzeConnectivity(turned, static_cast<int>(V.rows()), step);
+  AtlasResult result = AtlasBuilder(V, turned, options, start, bar).run(std::move(connectivity));
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (turn[f]) std::swap(result.layout.face_uv(f, 1), result.layout.face_uv(f, 2));
   AtlasReport& r = result.report;
@@ -1423,13 +1426,7 @@ SpatialOrder spatialOrder(const Positions& V, const Triangles& F) {
       keyed[f] = {code, f};
     }
   });
-  // Two halves sorted at once, then merged: the same order as one sort (keys are distinct).
-  const auto middle = keyed.begin() + faces / 2;
-  parallelFor(2, 1, [&](int first, int last, int) {
-    for (int h = first; h < last; ++h)
-      std::sort(h == 0 ? keyed.begin() : middle, h == 0 ? middle : keyed.end());
-  });
-  std::inplace_merge(keyed.begin(), middle, keyed.end());
+  sortOnTwoCores(keyed);  // the keys are distinct
   SpatialOrder o;
   o.input_face.resize(faces);
   // Vertices numbered in order of first use along the ordered faces, then the unused ones in
@@ -1498,9 +1495,11 @@ AtlasResult atlasInOrder(const Positions& V, const Triangles& F, const AtlasOpti
   parallelForAlongside(
       1, 1, [&] { connectivity = analyzeConnectivity(F, static_cast<int>(V.rows()), step); },
       [&](int, int, int) { geometry = faceGraphGeometry(V, F); });
-  if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces)
-    return atlasOfTurnedFaces(V, F, options, connectivity, start, step, bar);  // turned normals
-  return AtlasBuilder(V, F, options, start, bar).run(connectivity, std::move(geometry));
+  if (connectivity.inconsistent_edges > 0 && options.turn_inconsistent_faces) {
+    geometry = FaceGraph();  // the turned faces' normals differ
+    return atlasOfTurnedFaces(V, F, options, connectivity, start, step, bar);
+  }
+  return AtlasBuilder(V, F, options, start, bar).run(std::move(connectivity), std::move(geometry));
 }
 
 }  // namespace

@@ -73,18 +73,7 @@ void forMeetingEdges(std::vector<BorderEdge> edges, const LocalUVs& uv, double c
     for (int i = first; i < last; ++i)
       order[i] = {std::min(uv[edges[i][0]].x(), uv[edges[i][1]].x()), i};
   });
-  // Long borders in two halves sorted at once, then merged: the same order as one sort (the
-  // keys are distinct).
-  if (n < 65536) {
-    std::sort(order.begin(), order.end());
-  } else {
-    const auto middle = order.begin() + n / 2;
-    parallelFor(2, 1, [&](int first, int last, int) {
-      for (int h = first; h < last; ++h)
-        std::sort(h == 0 ? order.begin() : middle, h == 0 ? middle : order.end());
-    });
-    std::inplace_merge(order.begin(), middle, order.end());
-  }
+  sortOnTwoCores(order);  // the keys are distinct
   struct Box {
     double low_x, high_x, low_y, high_y;
   };
@@ -163,9 +152,7 @@ std::vector<int> verticesOfMeetingEdges(std::vector<BorderEdge> edges, const Loc
         return true;
       },
       slots);
-  std::vector<int> vertices;
-  for (const std::vector<int>& part : found)
-    vertices.insert(vertices.end(), part.begin(), part.end());
+  std::vector<int> vertices = joinedInOrder(found);
   std::sort(vertices.begin(), vertices.end());
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
   return vertices;

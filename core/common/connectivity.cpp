@@ -85,12 +85,12 @@ class ConnectivityAnalysis {
 
   // One edge per run of equal keys: one half-edge is a boundary edge, two are twins (the same
   // direction twice: inconsistent orientation), more are a non-manifold edge. In slots of
-  // whole runs, one per core, their lists joined in slot order: the same for any count.
+  // whole runs, one per core, their lists joined in slot order: the same for any count. The
+  // keys are freed after: the rest needs only the twins, the boundary and the few non-manifold
+  // runs (at 13M faces the keys are half a gigabyte, and the face graph is built alongside).
   void pairEdges() {
-    struct Slot {
-      std::vector<size_t> edge_begin;
-      std::vector<int> boundary;
-      int inconsistent = 0, non_manifold = 0;
+    struct Counts {
+      int edges = 0, inconsistent = 0, non_manifold = 0;
     };
     const size_t keys = keys_.size();
     const int slots = static_cast<int>(std::clamp<size_t>(keys / 65536, 1, parallelWorkers()));
@@ -102,17 +102,18 @@ class ConnectivityAnalysis {
         ++i;
       slot_begin[s] = std::max(i, s > 0 ? slot_begin[s - 1] : 0);
     }
-    std::vector<Slot> slot(slots);
+    std::vector<Counts> counts(slots);
+    // Per slot: its boundary half-edges; each non-manifold run's half-edges, then -1.
+    std::vector<std::vector<int>> boundary(slots), non_manifold(slots);
     parallelFor(slots, 1, [&](int first, int last, int) {
       for (int s = first; s < last; ++s) {
-        Slot& out = slot[s];
-        out.edge_begin.reserve((slot_begin[s + 1] - slot_begin[s]) / 2 + 1);
+        Counts& out = counts[s];
         for (size_t i = slot_begin[s]; i < slot_begin[s + 1];) {
           size_t j = i + 1;
           while (j < keys && keys_[j].low == keys_[i].low && keys_[j].high == keys_[i].high) ++j;
-          out.edge_begin.push_back(i);
+          ++out.edges;
           if (j - i == 1) {
-            out.boundary.push_back(keys_[i].half_edge);
+            boundary[s].push_back(keys_[i].half_edge);
           } else if (j - i == 2) {
             const int h = keys_[i].half_edge, g = keys_[i + 1].half_edge;
             c_.twin[h] = g;
@@ -120,22 +121,22 @@ class ConnectivityAnalysis {
             if (from(h) == from(g)) ++out.inconsistent;
           } else {
             ++out.non_manifold;
+            for (size_t k = i; k < j; ++k) non_manifold[s].push_back(keys_[k].half_edge);
+            non_manifold[s].push_back(-1);
           }
           i = j;
         }
       }
     });
-    for (Slot& out : slot) {
-      edge_begin_.insert(edge_begin_.end(), out.edge_begin.begin(), out.edge_begin.end());
-      boundary_half_edges_.insert(boundary_half_edges_.end(), out.boundary.begin(),
-                                  out.boundary.end());
+    boundary_half_edges_ = joinedInOrder(boundary);
+    non_manifold_runs_ = joinedInOrder(non_manifold);
+    for (const Counts& out : counts) {
+      c_.edges += out.edges;
       c_.inconsistent_edges += out.inconsistent;
       c_.non_manifold_edges += out.non_manifold;
-      out = Slot();
     }
-    c_.edges = static_cast<int>(edge_begin_.size());
     c_.boundary_edges = static_cast<int>(boundary_half_edges_.size());
-    edge_begin_.push_back(keys);
+    keys_ = std::vector<HalfEdgeKey>();
   }
 
   // Components (faces joined across two-face edges), numbered in order of their first face.
@@ -219,19 +220,18 @@ class ConnectivityAnalysis {
     std::sort(shared.begin(), shared.end());
     shared.erase(std::unique(shared.begin(), shared.end()), shared.end());
     for (const auto& [v, component] : shared) ++c_.euler_characteristic[component];  // V
+    // - E, once per component the edge is in: a two-face edge's faces are twins, so joined into
+    // one component; a boundary edge has one face; a non-manifold edge's faces may lie in several.
+    for (int h = 0; h < 3 * faces_; ++h)
+      if (c_.twin[h] > h) --c_.euler_characteristic[c_.component[h / 3]];
+    for (int h : boundary_half_edges_) --c_.euler_characteristic[c_.component[h / 3]];
     std::vector<int> parts;
-    for (size_t e = 0; e + 1 < edge_begin_.size(); ++e) {  // - E, once per component it is in
-      const size_t begin = edge_begin_[e], end = edge_begin_[e + 1];
-      const int first = c_.component[keys_[begin].half_edge / 3];
-      if (end - begin == 1 ||
-          (end - begin == 2 && c_.component[keys_[begin + 1].half_edge / 3] == first)) {
-        --c_.euler_characteristic[first];
-        continue;
-      }
+    for (size_t i = 0; i < non_manifold_runs_.size(); ++i) {
       parts.clear();
-      for (size_t i = begin; i < end; ++i) parts.push_back(c_.component[keys_[i].half_edge / 3]);
+      for (; non_manifold_runs_[i] >= 0; ++i)
+        parts.push_back(c_.component[non_manifold_runs_[i] / 3]);
       const int distinct = distinctCount(parts);
-      for (int i = 0; i < distinct; ++i) --c_.euler_characteristic[parts[i]];
+      for (int k = 0; k < distinct; ++k) --c_.euler_characteristic[parts[k]];
     }
     for (int f = 0; f < faces_; ++f) ++c_.euler_characteristic[c_.component[f]];  // + F
   }
@@ -239,9 +239,9 @@ class ConnectivityAnalysis {
   const Triangles& F_;
   const int faces_, vertex_count_;
   Connectivity c_;
-  std::vector<HalfEdgeKey> keys_;   // undirected edges: the half-edges sorted by their ends
-  std::vector<size_t> edge_begin_;  // per edge its first key, then keys_.size()
+  std::vector<HalfEdgeKey> keys_;  // undirected edges: the half-edges sorted by their ends
   std::vector<int> boundary_half_edges_;
+  std::vector<int> non_manifold_runs_;  // each non-manifold edge's half-edges, then -1
   DisjointSets face_sets_, boundary_sets_, corners_{0};
 };
 

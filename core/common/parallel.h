@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <exception>
 #include <new>
 #include <system_error>
@@ -121,6 +122,37 @@ template <class Body>
 void parallelForDynamic(int n, int chunk, Body&& body, int most_workers = 0) {
   parallelForAlongside(
       n, chunk, [] {}, std::forward<Body>(body), most_workers);
+}
+
+// Sorts `items` as std::sort does when no two compare equal (distinct keys have one order):
+// from `min_items` on, two halves at once, then merged.
+template <class T>
+void sortOnTwoCores(std::vector<T>& items, size_t min_items = 65536) {
+  if (items.size() < min_items) {
+    std::sort(items.begin(), items.end());
+    return;
+  }
+  const auto middle = items.begin() + static_cast<std::ptrdiff_t>(items.size() / 2);
+  parallelFor(2, 1, [&](int first, int last, int) {
+    for (int h = first; h < last; ++h)
+      std::sort(h == 0 ? items.begin() : middle, h == 0 ? middle : items.end());
+  });
+  std::inplace_merge(items.begin(), middle, items.end());
+}
+
+// The lists kept per slot of a parallel pass, joined in slot order (so the same on any number
+// of cores) and freed.
+template <class T>
+std::vector<T> joinedInOrder(std::vector<std::vector<T>>& lists) {
+  size_t total = 0;
+  for (const std::vector<T>& list : lists) total += list.size();
+  std::vector<T> joined;
+  joined.reserve(total);
+  for (std::vector<T>& list : lists) {
+    joined.insert(joined.end(), list.begin(), list.end());
+    list = std::vector<T>();
+  }
+  return joined;
 }
 
 // Places items [0, n) in buckets [0, buckets), each bucket's items in item order, and returns the

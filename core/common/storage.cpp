@@ -353,8 +353,7 @@ StorageCounts store(Layout& layout, const StoragePolicy& policy,
     for (int f = begin; f < end; ++f)
       if (!map.valid(f)) bad_in_slot[slot].push_back(f);
   });
-  std::vector<int> bad;
-  for (const std::vector<int>& part : bad_in_slot) bad.insert(bad.end(), part.begin(), part.end());
+  std::vector<int> bad = joinedInOrder(bad_in_slot);
   counts.degenerate_faces = static_cast<int>(bad.size());
   if (step) step();
 
