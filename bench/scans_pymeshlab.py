@@ -36,11 +36,16 @@ def one_mesh(args):
     if not hasattr(ml.MeshSet, ATLAS):
         setattr(ml.MeshSet, ATLAS, ml.bind_function(ATLAS))
     work = pathlib.Path(tempfile.mkdtemp(prefix="scans-pymeshlab-"))
-    seconds = {}
+    seconds, peak_after = {}, {}
+
+    def peak_mb():
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
     started = time.monotonic()
     ms = ml.MeshSet()
     ms.load_new_mesh(str(args.mesh))
     seconds["load"] = time.monotonic() - started
+    peak_after["load"] = peak_mb()
     mesh = ms.current_mesh()
     faces = mesh.face_matrix()
     face_count = len(faces)
@@ -51,17 +56,21 @@ def one_mesh(args):
     step = time.monotonic()
     report = getattr(ms, ATLAS)(texturesize=args.texture_size, texturename="atlas.png")
     seconds["atlas"] = time.monotonic() - step
+    peak_after["atlas"] = peak_mb()
     step = time.monotonic()
     ms.transfer_attributes_to_texture_per_vertex(sourcemesh=0, targetmesh=0,
                                                  textname="baked.png", textw=args.texture_size,
                                                  texth=args.texture_size)
     seconds["bake"] = time.monotonic() - step
+    peak_after["bake"] = peak_mb()
     step = time.monotonic()
     ms.save_current_mesh(str(work / "baked.ply"))
     seconds["save"] = time.monotonic() - step
+    peak_after["save"] = peak_mb()
     step = time.monotonic()
     ms.transfer_texture_to_color_per_vertex()
     seconds["read_back"] = time.monotonic() - step
+    peak_after["read_back"] = peak_mb()
     difference = np.abs(ms.current_mesh().vertex_color_matrix()[:, :3] - colours)[used] * 255
     seconds["total"] = time.monotonic() - started
     print(json.dumps({
@@ -69,7 +78,13 @@ def one_mesh(args):
         "l2": report["l2_stretch"], "atlas_report_seconds": report["seconds"],
         "seconds": seconds, "colour_difference_mean": float(difference.mean()),
         "colour_difference_max": float(difference.max()),
-        "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+        "peak_mb": peak_mb(), "peak_mb_after": peak_after}))
+
+
+def peak_step(peak_after):
+    """The first step after which the process's peak memory was reached."""
+    highest = max(peak_after.values())
+    return next(step for step, mb in peak_after.items() if mb == highest).replace("_", " ")
 
 
 def main():
@@ -89,8 +104,9 @@ def main():
     names = args.only.split(",")
     wanted = [m for m in MESHES + BIG if m[0] in names or (args.big and m in BIG)]
     lines = ["| mesh | σ | faces | charts | atlas L2 | seconds: load, atlas, bake, save, "
-             "read back (total) | peak MB (whole process) | colours read back, mean / largest "
-             "difference (of 255) |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "read back (total) | peak MB (whole process), the step that reached it | colours read "
+             "back, mean / largest difference (of 255) |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for name, source, subdivisions, holes, debris, _ in wanted:
         mesh = scan_file(args.shared, name, source, subdivisions, holes, debris, args.sigma)
         run = subprocess.run([sys.executable, __file__, "--build", str(args.build), "--mesh",
@@ -107,7 +123,8 @@ def main():
         lines.append(
             f"| {name} | {args.sigma:g} | {faces} | {r['charts']} | {r['l2']:.4f} | "
             f"{s['load']:.1f}, {s['atlas']:.1f}, {s['bake']:.1f}, {s['save']:.1f}, "
-            f"{s['read_back']:.1f} ({s['total']:.1f}) | {r['peak_mb']:.0f} | "
+            f"{s['read_back']:.1f} ({s['total']:.1f}) | {r['peak_mb']:.0f}, "
+            f"{peak_step(r['peak_mb_after'])} | "
             f"{r['colour_difference_mean']:.2f} / {r['colour_difference_max']:.0f} |")
         print(lines[-1], flush=True)
     body = (f"pymeshlab 2025.07 in one process per mesh, texture {args.texture_size}² "
