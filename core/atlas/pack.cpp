@@ -476,7 +476,7 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const Edges
   };
   std::once_flag built[4];
   auto scanSlice = [&](int task) {
-    const int turn = task / kSlicesPerTurn, slice = task % kSlicesPerTurn;
+    const int turn = task % 4, slice = task / 4;  // turns first: footprints built at once
     std::call_once(built[turn], build, turn);
     const Footprint& fp = turned[turn];
     if (fp.width > size || fp.height > size) return;
@@ -507,12 +507,16 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const Edges
     refine(turn, lowest[turn]);
   };
   // Threads only pay for themselves on larger charts. A turn's footprint is built by the
-  // first of its slices to start. The turns are refined each on its own too: the spots near a
-  // turn's lowest seldom end early, and refined one turn after another they were an eighth of
-  // the columns tested on one core (the scans bench's 1.36M-face armadillo).
+  // first of its slices to start, and the turn refined by the last to end (each turn on its
+  // own: refined one after another they were an eighth of the columns tested on one core, the
+  // scans bench's 1.36M-face armadillo), in one start of threads per chart.
+  std::atomic<int> slices_left[4] = {kSlicesPerTurn, kSlicesPerTurn, kSlicesPerTurn,
+                                     kSlicesPerTurn};
   const bool parallel = p.size() >= kFewestPointsForParallelSearch;
-  runTasks(4 * kSlicesPerTurn, parallel, scanSlice);
-  runTasks(4, parallel, searchTurn);
+  runTasks(4 * kSlicesPerTurn, parallel, [&](int task) {
+    scanSlice(task);
+    if (slices_left[task % 4].fetch_sub(1) == 1) searchTurn(task % 4);
+  });
   Spot best;
   for (int turn = 0; turn < 4; ++turn)
     if (lowest[turn] < best) best = lowest[turn];
