@@ -402,8 +402,19 @@ class Occupancy {
   int top_ = 0;
 };
 
-// Charts with at least this many texture coordinates are searched by parallel workers.
+// Charts with at least this many texture coordinates, or this many texels across, are searched
+// by parallel workers: a search's cost follows the footprint's size, and a CAD part's flat face
+// is a few points over hundreds of texels.
 constexpr size_t kFewestPointsForParallelSearch = 100;
+constexpr double kFewestTexelsForParallelSearch = 32;
+
+bool worthParallelSearch(const std::vector<Eigen::Vector2d>& p) {
+  if (p.size() >= kFewestPointsForParallelSearch) return true;
+  Eigen::Vector2d low = p.front(), high = p.front();
+  for (const Eigen::Vector2d& q : p) low = low.cwiseMin(q), high = high.cwiseMax(q);
+  return (high - low).maxCoeff() >= kFewestTexelsForParallelSearch;
+}
+
 // Whether a chart whose smallest rectangle is `extent`, at `scale`, is too long for the texture
 // along the rectangle's sides and shorter across its diagonal (a long strip: a CAD part's side
 // face of two triangles, which no cut can shorten).
@@ -512,7 +523,7 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const Edges
   // scans bench's 1.36M-face armadillo), in one start of threads per chart.
   std::atomic<int> slices_left[4] = {kSlicesPerTurn, kSlicesPerTurn, kSlicesPerTurn,
                                      kSlicesPerTurn};
-  const bool parallel = p.size() >= kFewestPointsForParallelSearch;
+  const bool parallel = worthParallelSearch(p);
   runTasks(4 * kSlicesPerTurn, parallel, [&](int task) {
     scanSlice(task);
     if (slices_left[task % 4].fetch_sub(1) == 1) searchTurn(task % 4);
