@@ -1123,11 +1123,23 @@ class AtlasBuilder {
         return {};
     }
     // Faces by the side of their centroid, then each side's connected pieces.
+    std::vector<double> along(chart.faces.size());
     for (size_t i = 0; i < chart.faces.size(); ++i) {
       const auto& t = chart.corner_row[i];
-      const Eigen::Vector2d centroid = (chart.uv[t[0]] + chart.uv[t[1]] + chart.uv[t[2]]) / 3;
-      scratch[chart.faces[i]] = cut->normal.dot(centroid) < cut->offset ? 0 : 1;
+      along[i] = cut->normal.dot((chart.uv[t[0]] + chart.uv[t[1]] + chart.uv[t[2]]) / 3);
     }
+    if (long_chart) {
+      // Faces as long as the chart (a CAD face's slivers) can all lie on one side of its
+      // middle: then the cut goes through their middle instead, which still shortens it.
+      const auto [low, high] = std::minmax_element(along.begin(), along.end());
+      if (*low >= cut->offset || *high < cut->offset) {
+        std::vector<double> sorted = along;
+        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+        cut->offset = sorted[sorted.size() / 2];
+      }
+    }
+    for (size_t i = 0; i < chart.faces.size(); ++i)
+      scratch[chart.faces[i]] = along[i] < cut->offset ? 0 : 1;
     if (!long_chart && cut->hull_gain * to_3d * to_3d < kCutWorth * kCutSeamWeight *
                                                             cutSeam(graph, chart.faces, scratch) *
                                                             mesh_length) {

@@ -858,6 +858,26 @@ Mesh withSquareBeside(Mesh mesh, double side) {
   return mesh;
 }
 
+// A long flat fan of slivers, every face reaching from a short curved end to one far vertex (a
+// CAD part's flat face triangulated end to end), with a square beside it: every centroid lies
+// in the first third of the fan's length, so the halving across the middle would leave one side
+// empty and the fan whole. It is cut through the centroids instead.
+TEST(Atlas, ALongChartOfSliversIsStillCut) {
+  const int ends = 33;  // vertices on the curved end
+  Mesh fan;
+  fan.V.resize(ends + 1, 3);
+  for (int j = 0; j < ends; ++j)
+    fan.V.row(j) << 2 * std::sin(kPi * j / (ends - 1)), 8.0 * j / (ends - 1), 0;
+  fan.V.row(ends) << 96, 4, 0;
+  fan.F.resize(ends - 1, 3);
+  for (int j = 0; j + 1 < ends; ++j) fan.F.row(j) << j, ends, j + 1;
+  const Mesh mesh = withSquareBeside(fan, 40);
+  const AtlasOptions o = quickOptions();
+  const AtlasResult r = makeAtlas(mesh.V, mesh.F, o);
+  expectCertified(mesh, r, o, 1.0 + 1e-9);
+  EXPECT_GE(r.report.charts, 3);  // the square, and the fan in two pieces or more
+}
+
 TEST(Atlas, ASheetWithSmallHolesIsOneChartAndARingIsCut) {
   // Holes of one quad each, far less than the sheet's area: the sheet is flattened whole, its
   // holes filled for the solve, so no seam runs from hole to hole.
