@@ -15,8 +15,11 @@ peak memory, and CPU time over wall time (both cores at work).
 
 Meshes: armadillo x16 (1.38M faces), tuned on; fertility x64 (0.58M faces, genus 4), kept out of
 the tuning and reported apart. --big adds armadillo x64 (5.5M) and cheburashka x1024 (13.7M).
---peers runs xatlas 0.0.11 on the armadillo x16 scan with a 20-minute limit.
-Writes bench/results/scans.md and, with --doc, that file's bench:scans block."""
+Writes bench/results/scans.md and, with --doc, that file's bench:scans block.
+
+--peers runs, instead, this project, xatlas 0.0.11 and Blender 5.0.1 (.venv-blender) on armadillo
+x16 with noise, each with a 20-minute limit, scored from each tool's own OBJ as the atlas bench
+scores them; it writes bench/results/scans_peers.md and the bench:scans-peers block."""
 import argparse
 import json
 import os
@@ -30,7 +33,7 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(HERE))
-from atlas import run_with_rusage  # noqa: E402
+from atlas import LABELS, hard_gates_ok, run_method, run_with_rusage, write_off  # noqa: E402
 from run import replace_block, results_link  # noqa: E402
 from scan_meshes import make_scan, write_ply  # noqa: E402
 
@@ -41,7 +44,7 @@ MESHES = [("armadillo x16", "armadillo.obj", 2, 2000, 200, False),
 BIG = [("armadillo x64", "armadillo.obj", 3, 5000, 500, False),
        ("cheburashka x1024", "cheburashka.off", 5, 5000, 500, False)]
 SIGMAS = [0.0, 0.15]
-XATLAS_LIMIT = 1200.0
+PEER_LIMIT = 1200.0  # seconds per peer on the 1.4M-face scan
 
 
 def load(path):
@@ -149,16 +152,63 @@ def fmt_row(name, sigma, row):
             f"{row['cpu_over_wall']:.2f} ({slowest_stage(row)}) | {gaps} |")
 
 
+def run_peers(args):
+    """This project, xatlas and Blender on armadillo x16 with noise, scored alike (OBJ out)."""
+    name, source, subdivisions, holes, debris, _ = MESHES[0]
+    mesh = scan_file(args.shared, name, source, subdivisions, holes, debris, 0.15)
+    off = CACHE / "armadillo_x16_s0.15.off"  # the peers read OFF
+    if not off.exists():
+        V, F = load(mesh)
+        write_off(off, V, F)
+    folder = CACHE / "runs" / "peers"
+    folder.mkdir(parents=True, exist_ok=True)
+    scoring = argparse.Namespace(build=args.build, texture_size=args.texture_size, gutter=2)
+    lines = [f"{name} with noise σ = 0.15 (bench/scans.py --peers): each tool in a process of its "
+             f"own with a {PEER_LIMIT / 60:.0f}-minute limit, texture {args.texture_size}², gutter "
+             "2, scored from the tool's own OBJ as the atlas bench scores them; seconds are each "
+             "tool's own work:", "",
+             "| tool | every hard gate | charts | seam | L2 | L∞ | flipped | mirrored | "
+             "overlapping px | efficiency | s | peak MB |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for method in ("ours", "xatlas", "blender"):
+        started = time.monotonic()
+        r = run_method(method, scoring, off, folder, timeout=PEER_LIMIT)
+        wall = time.monotonic() - started
+        if "failed" in r:
+            said = (f"stopped at the {PEER_LIMIT / 60:.0f}-minute limit, no atlas"
+                    if "time limit" in r["failed"] else f"failed: {r['failed']}")
+            line = f"| {LABELS[method]} | {said} | | | | | | | | | {wall:.0f} | |"
+        else:
+            line = (f"| {LABELS[method]} | {'yes' if hard_gates_ok(r) else 'NO'} | {r['charts']} | "
+                    f"{r['seam']:.1f} | {r['l2']:.4f} | {r['linf']:.3g} | {r['flipped_faces']} | "
+                    f"{r['mirrored_charts']} | {r['overlapping_pixels']} | {r['efficiency']:.3f} | "
+                    f"{r['seconds']:.1f} | {r['peak_mb']:.0f} |")
+        print(line, flush=True)
+        lines.append(line)
+    body = "\n".join(lines)
+    (HERE / "results" / "scans_peers.md").write_text(body + "\n")
+    if args.doc:
+        doc = pathlib.Path(args.doc)
+        text = doc.read_text()
+        if "<!-- bench:scans-peers -->" not in text:
+            sys.exit(f"scans.py: {doc} has no <!-- bench:scans-peers --> block")
+        doc.write_text(replace_block(text, "scans-peers", body))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--build", type=pathlib.Path, default=REPO / "build")
     parser.add_argument("--shared", type=pathlib.Path, default=REPO.parent / "shared")
     parser.add_argument("--big", action="store_true")
-    parser.add_argument("--peers", action="store_true")
+    parser.add_argument("--peers", action="store_true",
+                        help="instead of the scans table, this project, xatlas and Blender on "
+                             "armadillo x16 with noise (bench:scans-peers)")
     parser.add_argument("--texture-size", type=int, default=8192)
     parser.add_argument("--doc", help="the file holding the bench:scans block (docs/benchmarks.md)")
     parser.add_argument("--only", help="comma-separated mesh names")
     args = parser.parse_args()
+    if args.peers:
+        return run_peers(args)
     meshes = MESHES + (BIG if args.big else [])
     if args.only:
         meshes = [m for m in meshes if m[0] in args.only.split(",")]
@@ -202,23 +252,6 @@ def main():
     if ratios:
         lines += ["", "Charts with noise over charts without (same holes and debris): " +
                   ", ".join(ratios) + " (target ≤ 1.5×)."]
-    if args.peers:
-        name, source, subdivisions, holes, debris, _ = MESHES[0]
-        mesh = scan_file(args.shared, name, source, subdivisions, holes, debris, 0.15)
-        off = CACHE / "armadillo_x16_s0.15.off"
-        if not off.exists():
-            from atlas import write_off
-            V, F = load(mesh)
-            write_off(off, V, F)
-        out_obj = work / "xatlas.obj"
-        command = [str(REPO / ".venv" / "bin" / "python"), str(HERE / "atlas_peers.py"),
-                   "xatlas", str(off), str(out_obj), str(args.texture_size), "2"]
-        started = time.monotonic()
-        out, err, code, peak_mb = run_with_rusage(command, timeout=XATLAS_LIMIT)
-        wall = time.monotonic() - started
-        said = "stopped at the 20-minute limit" if code == -9 else (
-            f"{wall:.0f} s, exit {code}")
-        lines += ["", f"xatlas 0.0.11 on {name} with noise: {said}."]
     def with_pictures(link):
         """The lines, then each picture linked by `link(file name)`."""
         out = list(lines)
