@@ -561,7 +561,9 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
   const bool grid = parts > kMostFarthestSeeds;
   std::vector<int> seeds;
   SeedProgress seeds_found{progress, faces.size(), parts};
-  if (faces.size() < kFewestFacesForHalves || grid) {
+  // Large sets grow in two halves, one per core, each sampling its own farthest seeds.
+  const bool in_halves = faces.size() >= kFewestFacesForHalves;
+  if (!in_halves || grid) {
     if (grid) {
       // As if the seeds were found in proportion to the faces looked at.
       seeds = gridSeeds(graph, faces, kGridCellPerPartLength * length, [&](size_t done) {
@@ -572,7 +574,7 @@ std::vector<std::vector<int>> splitFaces(const FaceGraph& graph, const std::vect
     }
     seeds_found(static_cast<size_t>(parts));
   }
-  if (faces.size() < kFewestFacesForHalves || (grid && seeds.size() < 2)) {
+  if (!in_halves || (grid && seeds.size() < 2)) {
     const int made = growLloydParts(graph, faces, std::move(seeds), length, region, progress);
     result.resize(made);
     for (int f : faces) result[region[f]].push_back(f);

@@ -521,8 +521,8 @@ Spot lowestSpot(const Occupancy& occupancy, const ChartShape& chart, const Edges
   // first of its slices to start, and the turn refined by the last to end (each turn on its
   // own: refined one after another they were an eighth of the columns tested on one core, the
   // scans bench's 1.36M-face armadillo), in one start of threads per chart.
-  std::atomic<int> slices_left[4] = {kSlicesPerTurn, kSlicesPerTurn, kSlicesPerTurn,
-                                     kSlicesPerTurn};
+  std::atomic<int> slices_left[4];
+  for (std::atomic<int>& left : slices_left) left = kSlicesPerTurn;
   const bool parallel = worthParallelSearch(p);
   runTasks(4 * kSlicesPerTurn, parallel, [&](int task) {
     scanSlice(task);
